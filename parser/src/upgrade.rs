@@ -1,0 +1,2 @@
+use crate::directive::Directive;
+pub fn upgrade(_d: &mut Directive, _notes: &mut Vec<String>) {}
