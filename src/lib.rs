@@ -1,0 +1,11 @@
+//! rpbrt: a renderer for pbrt-v4 scenes, built for hair.
+//!
+//! Data flows one way: scene text → directives (the `pbrt-parser` crate) →
+//! scene description ([`scene`]) → built scene → integrator → film → image.
+//! See `docs/architecture.md`.
+
+pub mod error;
+pub mod math;
+pub mod scene;
+
+pub use error::{Error, Result};

@@ -266,7 +266,14 @@ impl Directive {
                 f.write_char(' ')?;
                 quote(f, outside)
             }
-            Option(p) => write!(f, " {p}"),
+            // pbrt-v4 writes options as `Option "name" value`.
+            Option(p) => {
+                f.write_char(' ')?;
+                quote(f, &p.name)?;
+                let text = p.to_string();
+                let values = text.split_once(" [ ").map_or("", |(_, v)| v.trim_end_matches(" ]"));
+                write!(f, " {values}")
+            }
             Texture {
                 name,
                 value_type,

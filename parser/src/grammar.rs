@@ -95,10 +95,12 @@ pub(crate) fn directive<'a>(input: &'a [u8], locate: &Locate<'_>) -> PResult<'a,
         b"ObjectInstance" => string(D::ObjectInstance),
         b"Option" => {
             let r = lexer::skip_space(rest);
-            let p = param(r, locate).map_err(|e| match e {
-                nom::Err::Error(_) => expected(r, "a \"type name\" option declaration"),
-                e => e,
-            })?;
+            let (_, declaration) = string_argument(r)?;
+            if declaration.split_ascii_whitespace().count() == 1 {
+                let (r2, p) = untyped_option(r, locate)?;
+                return Ok((r2, D::Option(p)));
+            }
+            let p = param(r, locate)?;
             Ok((p.0, D::Option(p.1)))
         }
         b"PixelFilter" => entity_of(D::PixelFilter),
@@ -218,6 +220,30 @@ pub(crate) fn param_list<'a>(mut input: &'a [u8], locate: &Locate<'_>) -> PResul
         params.push(p);
         input = r;
     }
+}
+
+/// pbrt-v4's own form, `Option "name" value`: the type follows the value
+/// (a whole number is an integer).
+fn untyped_option<'a>(input: &'a [u8], locate: &Locate<'_>) -> PResult<'a, Param> {
+    use crate::param::{ParamType, Values};
+    let (rest, name) = lexer::quoted_string(input)?;
+    let (rest, values) = param::value_list(rest)?;
+    let ty = match &values {
+        Values::Numbers(v) if v.iter().all(|x| x.fract() == 0.0) => ParamType::Integer,
+        Values::Numbers(_) => ParamType::Float,
+        Values::Strings(_) => ParamType::String,
+        Values::Bools(_) => ParamType::Bool,
+    };
+    Ok((
+        rest,
+        Param {
+            ty,
+            name: name.trim().to_string(),
+            values,
+            location: locate(input),
+            v3_type: None,
+        },
+    ))
 }
 
 fn param<'a>(input: &'a [u8], locate: &Locate<'_>) -> PResult<'a, Param> {

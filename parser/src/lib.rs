@@ -15,6 +15,7 @@
 
 mod directive;
 mod error;
+mod format;
 mod grammar;
 pub mod lexer;
 mod location;
@@ -24,6 +25,7 @@ pub mod upgrade;
 
 pub use directive::{ActiveTransform, Directive, Entity, Located};
 pub use error::{ErrorKind, ParseError};
+pub use format::Formatter;
 pub use location::{LineColumn, Location, SourceFile};
 pub use param::{Param, ParamType, Values};
 pub use source::decompressing_reader;

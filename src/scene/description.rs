@@ -1,0 +1,224 @@
+//! The scene description: what the scene file says, as plain typed data,
+//! each entity with its transform and file location. Nothing is built yet
+//! (no meshes read, no spectra made): that is `build`'s job.
+
+use super::params::ParamSet;
+use crate::math::Transform;
+use pbrt_parser::Location;
+use std::collections::BTreeMap;
+use std::path::PathBuf;
+
+/// A file location that does not take part in comparisons: two
+/// descriptions are the same scene wherever their text was written.
+#[derive(Clone, Debug)]
+pub struct Loc(pub Location);
+
+impl PartialEq for Loc {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+impl std::fmt::Display for Loc {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        self.0.fmt(f)
+    }
+}
+
+/// A directive's type name and parameters (already checked against
+/// pbrt-v4's parameters for that type).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Entity {
+    /// The type: `"sphere"`, `"diffuse"`, `"perspective"`, ...
+    pub kind: String,
+    pub params: ParamSet,
+    /// The colour space in force where the entity was declared.
+    pub color_space: String,
+    pub location: Loc,
+}
+
+/// A time-varying transform (`ActiveTransform`/`TransformTimes`); `end` is
+/// `None` when it does not vary.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AnimatedTransform {
+    pub start: Transform,
+    pub end: Option<Transform>,
+    pub start_time: f64,
+    pub end_time: f64,
+}
+
+impl AnimatedTransform {
+    pub fn is_animated(&self) -> bool {
+        self.end.is_some()
+    }
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Camera {
+    pub entity: Entity,
+    /// The CTM at `Camera`.
+    pub camera_from_world: AnimatedTransform,
+    /// The outside medium at `Camera`.
+    pub medium: String,
+}
+
+/// Which material a shape uses.
+#[derive(Clone, Debug, PartialEq)]
+pub enum MaterialRef {
+    /// Index into [`SceneDescription::materials`].
+    Anonymous(usize),
+    /// A name in [`SceneDescription::named_materials`].
+    Named(String),
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Shape {
+    pub entity: Entity,
+    pub world_from_object: AnimatedTransform,
+    pub reverse_orientation: bool,
+    pub material: MaterialRef,
+    /// Index into [`SceneDescription::area_lights`].
+    pub area_light: Option<usize>,
+    pub inside_medium: String,
+    pub outside_medium: String,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Light {
+    pub entity: Entity,
+    pub world_from_light: Transform,
+    /// The outside medium at the light.
+    pub medium: String,
+}
+
+/// What a texture produces.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum TextureValue {
+    Float,
+    Spectrum,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Texture {
+    pub name: String,
+    pub value: TextureValue,
+    pub entity: Entity,
+    pub world_from_texture: Transform,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Medium {
+    pub name: String,
+    pub entity: Entity,
+    pub world_from_medium: Transform,
+}
+
+/// Shapes defined between `ObjectBegin` and `ObjectEnd`, in world space as
+/// they were defined; instances place them.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Object {
+    pub name: String,
+    pub shapes: Vec<Shape>,
+    pub location: Loc,
+}
+
+#[derive(Clone, Debug, PartialEq)]
+pub struct Instance {
+    /// Index into [`SceneDescription::objects`].
+    pub object: usize,
+    pub world_from_instance: AnimatedTransform,
+    pub location: Loc,
+}
+
+/// `Option` directives (and their command-line equivalents).
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct Options {
+    pub seed: i32,
+    pub disable_pixel_jitter: bool,
+    pub disable_texture_filtering: bool,
+    pub disable_wavelength_jitter: bool,
+    pub force_diffuse: bool,
+    pub pixel_stats: bool,
+    pub wavefront: bool,
+    pub displacement_edge_scale: Option<f64>,
+    pub mse_reference_image: Option<String>,
+    pub mse_reference_out: Option<String>,
+    pub render_coord_sys: Option<String>,
+}
+
+/// Everything a scene file describes.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SceneDescription {
+    /// Directory of the main scene file (relative file names resolve here).
+    pub base_directory: PathBuf,
+    pub options: Options,
+    pub camera: Camera,
+    pub film: Entity,
+    pub sampler: Entity,
+    pub filter: Entity,
+    pub integrator: Entity,
+    pub accelerator: Entity,
+    /// Materials from `Material`, referred to by index.
+    pub materials: Vec<Entity>,
+    /// Materials from `MakeNamedMaterial`, by name (the type is `kind`).
+    pub named_materials: BTreeMap<String, Entity>,
+    pub textures: Vec<Texture>,
+    pub media: Vec<Medium>,
+    pub lights: Vec<Light>,
+    /// `AreaLightSource`s, one per shape that carries one.
+    pub area_lights: Vec<Entity>,
+    pub shapes: Vec<Shape>,
+    pub objects: Vec<Object>,
+    pub instances: Vec<Instance>,
+}
+
+impl SceneDescription {
+    /// Shape counts by type, over top-level shapes and object definitions.
+    pub fn shape_counts(&self) -> BTreeMap<&str, usize> {
+        let mut counts = BTreeMap::new();
+        let all = self
+            .shapes
+            .iter()
+            .chain(self.objects.iter().flat_map(|o| o.shapes.iter()));
+        for s in all {
+            *counts.entry(s.entity.kind.as_str()).or_insert(0) += 1;
+        }
+        counts
+    }
+
+    /// A short human-readable summary of the scene.
+    pub fn summary(&self) -> String {
+        let mut out = String::new();
+        let shapes: usize = self.shape_counts().values().sum();
+        out.push_str(&format!("shapes: {shapes}"));
+        for (kind, n) in self.shape_counts() {
+            out.push_str(&format!("\n  {kind}: {n}"));
+        }
+        out.push_str(&format!(
+            "\nobject definitions: {}, instances: {}",
+            self.objects.len(),
+            self.instances.len()
+        ));
+        out.push_str(&format!(
+            "\nmaterials: {} ({} named)",
+            self.materials.len() + self.named_materials.len(),
+            self.named_materials.len()
+        ));
+        out.push_str(&format!("\ntextures: {}", self.textures.len()));
+        out.push_str(&format!(
+            "\nlights: {} ({} area lights on shapes)",
+            self.lights.len() + self.area_lights.len(),
+            self.area_lights.len()
+        ));
+        out.push_str(&format!("\nmedia: {}", self.media.len()));
+        out.push_str(&format!(
+            "\ncamera \"{}\", film \"{}\", sampler \"{}\", filter \"{}\", integrator \"{}\"",
+            self.camera.entity.kind,
+            self.film.kind,
+            self.sampler.kind,
+            self.filter.kind,
+            self.integrator.kind
+        ));
+        out
+    }
+}

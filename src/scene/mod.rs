@@ -1,0 +1,11 @@
+//! From directives to a scene description: the graphics state, named
+//! things, instancing, and typed parameter lookups.
+
+pub mod builder;
+pub mod description;
+pub mod params;
+pub mod schema;
+
+pub use builder::{load, load_text, Loaded, SceneBuilder};
+pub use description::SceneDescription;
+pub use params::ParamSet;

@@ -1,0 +1,278 @@
+//! Typed parameter lookups with defaults, and the report of parameters no
+//! lookup asked for.
+//!
+//! A [`ParamSet`] holds a directive's parameters, then those of the
+//! `Attribute` directives in force (which a directive's own parameters
+//! override, and which may go unused). Lookups match name *and* type; a
+//! parameter whose name matches but whose type is not one the lookup
+//! accepts is an error, as is a parameter nothing asked for.
+
+use crate::error::{scene_error, Result, SceneError};
+use glam::{DVec2, DVec3};
+use pbrt_parser::{Location, Param, ParamType, Values};
+use std::cell::Cell;
+
+/// Parameters of one entity, with per-parameter "was looked up" flags.
+#[derive(Clone, Debug, Default)]
+pub struct ParamSet {
+    params: Vec<Param>,
+    /// Parameters that came from `Attribute` (never reported unused).
+    from_attributes: Vec<bool>,
+    used: Vec<Cell<bool>>,
+}
+
+impl PartialEq for ParamSet {
+    fn eq(&self, other: &Self) -> bool {
+        self.params == other.params
+    }
+}
+
+impl ParamSet {
+    pub fn new(params: Vec<Param>, attributes: &[Param]) -> Self {
+        let n = params.len();
+        let mut all = params;
+        // Later attributes override earlier ones: search them last-first.
+        all.extend(attributes.iter().rev().cloned());
+        ParamSet {
+            from_attributes: (0..all.len()).map(|i| i >= n).collect(),
+            used: (0..all.len()).map(|_| Cell::new(false)).collect(),
+            params: all,
+        }
+    }
+
+    pub fn iter(&self) -> impl Iterator<Item = &Param> {
+        self.params.iter()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.params.is_empty()
+    }
+
+    /// The directive's own parameters (not the attributes), for printing.
+    pub fn own(&self) -> impl Iterator<Item = &Param> {
+        self.params
+            .iter()
+            .zip(&self.from_attributes)
+            .filter(|(_, a)| !**a)
+            .map(|(p, _)| p)
+    }
+
+    /// The first parameter called `name` (marked used), if any; an error
+    /// when its type is not among `types`.
+    pub fn find(&self, name: &str, types: &[ParamType]) -> Result<Option<&Param>> {
+        // A directive may repeat a name: the last one written wins.
+        let own_last = self
+            .params
+            .iter()
+            .enumerate()
+            .filter(|(i, p)| !self.from_attributes[*i] && p.name == name)
+            .last()
+            .or_else(|| {
+                self.params
+                    .iter()
+                    .enumerate()
+                    .find(|(i, p)| self.from_attributes[*i] && p.name == name)
+            });
+        let Some((i, p)) = own_last else {
+            return Ok(None);
+        };
+        // Same-named parameters are all accounted for by this lookup.
+        for (j, q) in self.params.iter().enumerate() {
+            if q.name == name && types.contains(&q.ty) {
+                self.used[j].set(true);
+            }
+        }
+        if !types.contains(&p.ty) {
+            let expected: Vec<&str> = types.iter().map(|t| t.name()).collect();
+            return scene_error(
+                format!(
+                    "\"{} {}\": parameter \"{}\" has the wrong type; expected {}",
+                    p.ty.name(),
+                    p.name,
+                    p.name,
+                    expected.join(" or ")
+                ),
+                &p.location,
+            );
+        }
+        self.used[i].set(true);
+        Ok(Some(p))
+    }
+
+    fn one_number(&self, name: &str, ty: ParamType) -> Result<Option<(f64, &Location)>> {
+        let Some(p) = self.find(name, &[ty])? else {
+            return Ok(None);
+        };
+        match p.numbers() {
+            [x] => Ok(Some((*x, &p.location))),
+            [] => scene_error(format!("no values provided for \"{name}\""), &p.location),
+            _ => scene_error(
+                format!("more than one value provided for \"{name}\""),
+                &p.location,
+            ),
+        }
+    }
+
+    pub fn float(&self, name: &str, default: f64) -> Result<f64> {
+        Ok(self.one_number(name, ParamType::Float)?.map_or(default, |(x, _)| x))
+    }
+
+    pub fn int(&self, name: &str, default: i32) -> Result<i32> {
+        Ok(self
+            .one_number(name, ParamType::Integer)?
+            .map_or(default, |(x, _)| x as i32))
+    }
+
+    pub fn bool(&self, name: &str, default: bool) -> Result<bool> {
+        let Some(p) = self.find(name, &[ParamType::Bool])? else {
+            return Ok(default);
+        };
+        match p.bools() {
+            [b] => Ok(*b),
+            _ => scene_error(format!("expected one value for \"{name}\""), &p.location),
+        }
+    }
+
+    pub fn string(&self, name: &str, default: &str) -> Result<String> {
+        let Some(p) = self.find(name, &[ParamType::String])? else {
+            return Ok(default.to_string());
+        };
+        match p.strings() {
+            [s] => Ok(s.clone()),
+            _ => scene_error(format!("expected one value for \"{name}\""), &p.location),
+        }
+    }
+
+    /// The name of the texture bound to `name`, if any.
+    pub fn texture(&self, name: &str) -> Result<Option<String>> {
+        let Some(p) = self.find(name, &[ParamType::Texture])? else {
+            return Ok(None);
+        };
+        match p.strings() {
+            [s] => Ok(Some(s.clone())),
+            _ => scene_error(format!("expected one texture name for \"{name}\""), &p.location),
+        }
+    }
+
+    pub fn floats(&self, name: &str) -> Result<Vec<f64>> {
+        Ok(self
+            .find(name, &[ParamType::Float])?
+            .map_or_else(Vec::new, |p| p.numbers().to_vec()))
+    }
+
+    pub fn ints(&self, name: &str) -> Result<Vec<i32>> {
+        Ok(self
+            .find(name, &[ParamType::Integer])?
+            .map_or_else(Vec::new, |p| p.numbers().iter().map(|&x| x as i32).collect()))
+    }
+
+    pub fn strings(&self, name: &str) -> Result<Vec<String>> {
+        Ok(self
+            .find(name, &[ParamType::String])?
+            .map_or_else(Vec::new, |p| p.strings().to_vec()))
+    }
+
+    fn triples(&self, name: &str, ty: ParamType) -> Result<Vec<DVec3>> {
+        Ok(self.find(name, &[ty])?.map_or_else(Vec::new, |p| {
+            p.numbers()
+                .chunks_exact(3)
+                .map(|c| DVec3::new(c[0], c[1], c[2]))
+                .collect()
+        }))
+    }
+
+    pub fn point3s(&self, name: &str) -> Result<Vec<DVec3>> {
+        self.triples(name, ParamType::Point3)
+    }
+
+    pub fn vector3s(&self, name: &str) -> Result<Vec<DVec3>> {
+        self.triples(name, ParamType::Vector3)
+    }
+
+    pub fn normals(&self, name: &str) -> Result<Vec<DVec3>> {
+        self.triples(name, ParamType::Normal3)
+    }
+
+    pub fn point2s(&self, name: &str) -> Result<Vec<DVec2>> {
+        Ok(self
+            .find(name, &[ParamType::Point2])?
+            .map_or_else(Vec::new, |p| {
+                p.numbers()
+                    .chunks_exact(2)
+                    .map(|c| DVec2::new(c[0], c[1]))
+                    .collect()
+            }))
+    }
+
+    pub fn point3(&self, name: &str, default: DVec3) -> Result<DVec3> {
+        let Some(p) = self.find(name, &[ParamType::Point3])? else {
+            return Ok(default);
+        };
+        match p.numbers() {
+            [x, y, z] => Ok(DVec3::new(*x, *y, *z)),
+            _ => scene_error(format!("expected one point for \"{name}\""), &p.location),
+        }
+    }
+
+    /// The first parameter nothing looked up, as an error (pbrt-v4 treats
+    /// unused parameters as errors: they are usually misspellings).
+    pub fn report_unused(&self, what: &str) -> Result<()> {
+        for (i, p) in self.params.iter().enumerate() {
+            if self.from_attributes[i] || self.used[i].get() {
+                continue;
+            }
+            return Err(SceneError::new(
+                format!(
+                    "\"{} {}\": unused parameter (not a parameter of {what})",
+                    p.ty.name(),
+                    p.name
+                ),
+                &p.location,
+            )
+            .into());
+        }
+        Ok(())
+    }
+
+    /// Values of a parameter for printing a summary (first match).
+    pub fn values(&self, name: &str) -> Option<&Values> {
+        self.params.iter().find(|p| p.name == name).map(|p| &p.values)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use pbrt_parser::{Directive, Parser};
+
+    fn params(text: &str) -> ParamSet {
+        let d = Parser::from_text("<t>", text).next().unwrap().unwrap();
+        let Directive::Shape(e) = d.directive else { panic!() };
+        ParamSet::new(e.params, &[])
+    }
+
+    #[test]
+    fn typed_lookups_with_defaults() {
+        let p = params("Shape \"sphere\" \"float radius\" 2 \"integer n\" [3] \"point3 P\" [1 2 3 4 5 6]");
+        assert_eq!(p.float("radius", 1.0).unwrap(), 2.0);
+        assert_eq!(p.float("zmin", -1.0).unwrap(), -1.0);
+        assert_eq!(p.int("n", 0).unwrap(), 3);
+        assert_eq!(p.point3s("P").unwrap().len(), 2);
+        p.report_unused("sphere").unwrap();
+    }
+
+    #[test]
+    fn wrong_type_is_an_error_not_a_default() {
+        let p = params("Shape \"sphere\" \"integer radius\" 2");
+        let e = p.float("radius", 1.0).unwrap_err().to_string();
+        assert!(e.contains("wrong type") && e.contains("<t>:1:16"), "{e}");
+    }
+
+    #[test]
+    fn unused_parameters_are_reported_with_location() {
+        let p = params("Shape \"sphere\"\n  \"float radious\" 2");
+        p.float("radius", 1.0).unwrap();
+        let e = p.report_unused("sphere").unwrap_err().to_string();
+        assert!(e.contains("radious") && e.contains("<t>:2:3"), "{e}");
+    }
+}

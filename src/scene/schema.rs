@@ -1,0 +1,357 @@
+//! The parameters pbrt-v4 defines for each type of each directive, and the
+//! value types each accepts.
+//!
+//! The scene description checks every entity against this table as it is
+//! read, so a misspelt or mistyped parameter is an error naming its
+//! file:line:col before anything is built (pbrt-v4 reports the same, as
+//! "unused parameter", once it creates the object). Each type's own
+//! `create` function still reads its parameters with typed lookups.
+
+use super::params::ParamSet;
+use crate::error::{scene_error, Result};
+use pbrt_parser::{Location, ParamType as T};
+
+/// What a parameter slot accepts.
+type Slot = (&'static str, &'static [T]);
+
+const F: &[T] = &[T::Float];
+const I: &[T] = &[T::Integer];
+const B: &[T] = &[T::Bool];
+const S: &[T] = &[T::String];
+const P2: &[T] = &[T::Point2];
+const P3: &[T] = &[T::Point3];
+const V3: &[T] = &[T::Vector3];
+const N3: &[T] = &[T::Normal3];
+/// A float or a float texture.
+const FT: &[T] = &[T::Float, T::Texture];
+/// A spectrum: rgb, blackbody or spectrum.
+const SP: &[T] = &[T::Rgb, T::Spectrum, T::Blackbody];
+/// A spectrum or a spectrum texture.
+const ST: &[T] = &[T::Rgb, T::Spectrum, T::Blackbody, T::Texture];
+/// Any value a texture or an index of refraction may be.
+const ANY: &[T] = &[T::Float, T::Rgb, T::Spectrum, T::Blackbody, T::Texture];
+
+/// Directive families with typed entities.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Category {
+    Camera,
+    Film,
+    Sampler,
+    Filter,
+    Integrator,
+    Accelerator,
+    Shape,
+    Material,
+    Texture,
+    Light,
+    AreaLight,
+    Medium,
+}
+
+impl Category {
+    pub fn name(self) -> &'static str {
+        match self {
+            Category::Camera => "camera",
+            Category::Film => "film",
+            Category::Sampler => "sampler",
+            Category::Filter => "filter",
+            Category::Integrator => "integrator",
+            Category::Accelerator => "accelerator",
+            Category::Shape => "shape",
+            Category::Material => "material",
+            Category::Texture => "texture",
+            Category::Light => "light",
+            Category::AreaLight => "area light",
+            Category::Medium => "medium",
+        }
+    }
+}
+
+const SHUTTER: &[Slot] = &[("shutteropen", F), ("shutterclose", F)];
+const PROJECTIVE: &[Slot] = &[
+    ("lensradius", F),
+    ("focaldistance", F),
+    ("frameaspectratio", F),
+    ("screenwindow", F),
+];
+const FILM: &[Slot] = &[
+    ("xresolution", I),
+    ("yresolution", I),
+    ("cropwindow", F),
+    ("pixelbounds", I),
+    ("diagonal", F),
+    ("filename", S),
+    ("savefp16", B),
+    ("iso", F),
+    ("whitebalance", F),
+    ("sensor", S),
+    ("maxcomponentvalue", F),
+];
+const SAMPLER: &[Slot] = &[("pixelsamples", I), ("seed", I), ("randomization", S)];
+const FILTER: &[Slot] = &[("xradius", F), ("yradius", F)];
+const INTEGRATOR: &[Slot] = &[("maxdepth", I), ("regularize", B), ("lightsampler", S)];
+const SHAPE: &[Slot] = &[("alpha", FT)];
+const ROUGHNESS: &[Slot] = &[
+    ("roughness", FT),
+    ("uroughness", FT),
+    ("vroughness", FT),
+    ("remaproughness", B),
+];
+const MATERIAL: &[Slot] = &[("type", S), ("displacement", FT), ("normalmap", S)];
+const TEXTURE: &[Slot] = &[
+    ("mapping", S),
+    ("uscale", F),
+    ("vscale", F),
+    ("udelta", F),
+    ("vdelta", F),
+    ("v1", V3),
+    ("v2", V3),
+];
+const LIGHT: &[Slot] = &[("scale", F), ("power", F)];
+const MEDIUM: &[Slot] = &[
+    ("type", S),
+    ("sigma_a", SP),
+    ("sigma_s", SP),
+    ("scale", F),
+    ("g", F),
+    ("preset", S),
+    ("Le", &[T::Float, T::Rgb, T::Spectrum, T::Blackbody]),
+    ("Lescale", F),
+];
+const GRID: &[Slot] = &[
+    ("nx", I),
+    ("ny", I),
+    ("nz", I),
+    ("p0", P3),
+    ("p1", P3),
+    ("density", F),
+    ("temperature", F),
+    ("temperaturecutoff", F),
+    ("temperaturescale", F),
+    ("temperatureoffset", F),
+];
+
+/// The slots of a type: its own, then the family's common ones.
+fn slots(category: Category, kind: &str) -> Option<[&'static [Slot]; 3]> {
+    use Category::*;
+    let none: &[Slot] = &[];
+    let own: &[Slot] = match (category, kind) {
+        (Camera, "perspective") => &[("fov", F)],
+        (Camera, "orthographic") => none,
+        (Camera, "realistic") => &[
+            ("lensfile", S),
+            ("aperturediameter", F),
+            ("focusdistance", F),
+            ("aperture", S),
+        ],
+        (Camera, "spherical") => &[("mapping", S)],
+        (Film, "rgb") => none,
+        (Film, "gbuffer") => &[("coordinatesystem", S)],
+        (Film, "spectral") => &[("nbuckets", I), ("lambdamin", F), ("lambdamax", F)],
+        (Sampler, "halton" | "independent" | "paddedsobol" | "pmj02bn" | "sobol" | "zsobol") => none,
+        (Sampler, "stratified") => &[("xsamples", I), ("ysamples", I), ("jitter", B)],
+        (Filter, "box" | "triangle") => none,
+        (Filter, "gaussian") => &[("sigma", F)],
+        (Filter, "mitchell") => &[("B", F), ("C", F)],
+        (Filter, "sinc") => &[("tau", F)],
+        (Integrator, "path" | "volpath" | "lightpath" | "randomwalk" | "simplevolpath") => none,
+        (Integrator, "simplepath") => &[("samplelights", B), ("samplebsdf", B)],
+        (Integrator, "bdpt") => &[("visualizestrategies", B), ("visualizeweights", B)],
+        (Integrator, "mlt") => &[
+            ("bootstrapsamples", I),
+            ("chains", I),
+            ("mutationsperpixel", I),
+            ("largestepprobability", F),
+            ("sigma", F),
+        ],
+        (Integrator, "sppm") => &[("photonsperiteration", I), ("radius", F), ("seed", I)],
+        (Integrator, "ambientocclusion") => &[("cossample", B), ("maxdistance", F)],
+        (Accelerator, "bvh") => &[("maxnodeprims", I), ("splitmethod", S)],
+        (Accelerator, "kdtree") => &[
+            ("intersectcost", I),
+            ("traversalcost", I),
+            ("emptybonus", F),
+            ("maxprims", I),
+            ("maxdepth", I),
+        ],
+        (Shape, "sphere" | "cylinder") => &[("radius", F), ("zmin", F), ("zmax", F), ("phimax", F)],
+        (Shape, "disk") => &[("height", F), ("radius", F), ("innerradius", F), ("phimax", F)],
+        (Shape, "trianglemesh" | "bilinearmesh") => &[
+            ("P", P3),
+            ("indices", I),
+            ("uv", P2),
+            ("N", N3),
+            ("S", V3),
+            ("faceIndices", I),
+        ],
+        (Shape, "plymesh") => &[("filename", S), ("displacement", FT), ("edgelength", F)],
+        (Shape, "curve" | "bcurve") => &[
+            ("P", P3),
+            ("basis", S),
+            ("degree", I),
+            ("type", S),
+            ("N", N3),
+            ("width", F),
+            ("width0", F),
+            ("width1", F),
+            ("splitdepth", I),
+        ],
+        (Shape, "loopsubdiv") => &[("levels", I), ("indices", I), ("P", P3)],
+        (Material, "interface" | "") => none,
+        (Material, "diffuse") => &[("reflectance", ST)],
+        (Material, "coateddiffuse") => &[
+            ("reflectance", ST),
+            ("thickness", FT),
+            ("eta", ANY),
+            ("maxdepth", I),
+            ("nsamples", I),
+            ("g", FT),
+            ("albedo", ST),
+        ],
+        (Material, "coatedconductor") => &[
+            ("interface.roughness", FT),
+            ("interface.uroughness", FT),
+            ("interface.vroughness", FT),
+            ("interface.eta", ANY),
+            ("thickness", FT),
+            ("conductor.eta", ST),
+            ("conductor.k", ST),
+            ("conductor.roughness", FT),
+            ("conductor.uroughness", FT),
+            ("conductor.vroughness", FT),
+            ("reflectance", ST),
+            ("maxdepth", I),
+            ("nsamples", I),
+            ("g", FT),
+            ("albedo", ST),
+            ("remaproughness", B),
+        ],
+        (Material, "conductor") => &[("eta", ST), ("k", ST), ("reflectance", ST)],
+        (Material, "dielectric" | "thindielectric") => &[("eta", ANY)],
+        (Material, "diffusetransmission") => &[
+            ("reflectance", ST),
+            ("transmittance", ST),
+            ("scale", F),
+        ],
+        (Material, "hair") => &[
+            ("sigma_a", ST),
+            ("reflectance", ST),
+            ("eumelanin", FT),
+            ("pheomelanin", FT),
+            ("eta", FT),
+            ("beta_m", FT),
+            ("beta_n", FT),
+            ("alpha", FT),
+        ],
+        (Material, "measured") => &[("filename", S)],
+        (Material, "mix") => &[("materials", S), ("amount", FT)],
+        (Material, "subsurface") => &[
+            ("eta", F),
+            ("g", F),
+            ("mfp", ST),
+            ("name", S),
+            ("reflectance", ST),
+            ("sigma_a", ST),
+            ("sigma_s", ST),
+            ("scale", F),
+        ],
+        (Texture, "constant") => &[("value", ANY)],
+        (Texture, "scale") => &[("tex", ANY), ("scale", FT)],
+        (Texture, "mix") => &[("tex1", ANY), ("tex2", ANY), ("amount", FT)],
+        (Texture, "directionmix") => &[("tex1", ANY), ("tex2", ANY), ("dir", V3)],
+        (Texture, "checkerboard") => &[("dimension", I), ("tex1", ANY), ("tex2", ANY)],
+        (Texture, "dots") => &[("inside", ANY), ("outside", ANY)],
+        (Texture, "fbm" | "wrinkled") => &[("octaves", I), ("roughness", F)],
+        (Texture, "windy") => none,
+        (Texture, "marble") => &[("octaves", I), ("roughness", F), ("scale", F), ("variation", F)],
+        (Texture, "imagemap") => &[
+            ("filename", S),
+            ("maxanisotropy", F),
+            ("filter", S),
+            ("encoding", S),
+            ("invert", B),
+            ("scale", F),
+            ("wrap", S),
+        ],
+        (Texture, "ptex") => &[("filename", S), ("encoding", S), ("scale", F), ("invert", B)],
+        (Texture, "bilerp") => &[("v00", ANY), ("v01", ANY), ("v10", ANY), ("v11", ANY)],
+        (Light, "point") => &[("I", SP), ("from", P3)],
+        (Light, "spot") => &[
+            ("I", SP),
+            ("from", P3),
+            ("to", P3),
+            ("coneangle", F),
+            ("conedeltaangle", F),
+        ],
+        (Light, "goniometric") => &[("I", SP), ("filename", S)],
+        (Light, "projection") => &[("I", SP), ("fov", F), ("filename", S)],
+        (Light, "distant") => &[("L", SP), ("from", P3), ("to", P3), ("illuminance", F)],
+        (Light, "infinite") => &[("L", SP), ("filename", S), ("illuminance", F), ("portal", P3)],
+        (AreaLight, "diffuse") => &[("L", SP), ("twosided", B), ("filename", S)],
+        (Medium, "homogeneous") => none,
+        (Medium, "uniformgrid") => GRID,
+        (Medium, "rgbgrid") => &[
+            ("nx", I),
+            ("ny", I),
+            ("nz", I),
+            ("p0", P3),
+            ("p1", P3),
+            ("sigma_a", &[T::Rgb, T::Spectrum]),
+            ("sigma_s", &[T::Rgb, T::Spectrum]),
+            ("Le", &[T::Rgb, T::Spectrum]),
+        ],
+        (Medium, "cloud") => &[
+            ("density", F),
+            ("wavelength", F),
+            ("frequency", F),
+            ("p0", P3),
+            ("p1", P3),
+        ],
+        (Medium, "nanovdb") => &[
+            ("filename", S),
+            ("temperaturecutoff", F),
+            ("temperaturescale", F),
+            ("temperatureoffset", F),
+        ],
+        _ => return None,
+    };
+    let common: [&'static [Slot]; 2] = match category {
+        Camera if kind == "spherical" => [SHUTTER, none],
+        Camera if kind == "realistic" => [SHUTTER, none],
+        Camera => [SHUTTER, PROJECTIVE],
+        Film => [FILM, none],
+        Sampler => [SAMPLER, none],
+        Filter => [FILTER, none],
+        Integrator => [INTEGRATOR, none],
+        Accelerator => [none, none],
+        Shape => [SHAPE, none],
+        Material => match kind {
+            "conductor" | "dielectric" | "coateddiffuse" | "subsurface" => [MATERIAL, ROUGHNESS],
+            _ => [MATERIAL, none],
+        },
+        Texture => [TEXTURE, none],
+        Light | AreaLight => [LIGHT, none],
+        Medium => [MEDIUM, none],
+    };
+    Some([own, common[0], common[1]])
+}
+
+/// Whether pbrt-v4 has a type of this name in this family.
+pub fn is_known(category: Category, kind: &str) -> bool {
+    slots(category, kind).is_some()
+}
+
+/// Checks `params` against the type's parameters: an unknown type, a
+/// parameter of the wrong type, or one the type does not have is an error.
+pub fn check(category: Category, kind: &str, params: &ParamSet, location: &Location) -> Result<()> {
+    let Some(groups) = slots(category, kind) else {
+        return scene_error(
+            format!("unknown {} type \"{kind}\"", category.name()),
+            location,
+        );
+    };
+    for (name, types) in groups.iter().flat_map(|g| g.iter()) {
+        params.find(name, types)?;
+    }
+    params.report_unused(&format!("{} \"{kind}\"", category.name()))
+}
