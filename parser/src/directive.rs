@@ -76,9 +76,6 @@ pub enum Directive {
         class: Entity,
     },
     Transform([f64; 16]),
-    /// Deprecated in pbrt-v4: pushes the transform only.
-    TransformBegin,
-    TransformEnd,
     TransformTimes(f64, f64),
     Translate([f64; 3]),
     WorldBegin,
@@ -133,8 +130,6 @@ impl Directive {
             Shape(_) => "Shape",
             Texture { .. } => "Texture",
             Transform(_) => "Transform",
-            TransformBegin => "TransformBegin",
-            TransformEnd => "TransformEnd",
             TransformTimes(..) => "TransformTimes",
             Translate(_) => "Translate",
             WorldBegin => "WorldBegin",
@@ -288,7 +283,7 @@ impl Directive {
                 params(f, &class.params, indent)
             }
             AttributeBegin | AttributeEnd | Identity | ObjectEnd | ReverseOrientation
-            | TransformBegin | TransformEnd | WorldBegin | WorldEnd => Ok(()),
+            | WorldBegin | WorldEnd => Ok(()),
         }
     }
 }

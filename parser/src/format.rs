@@ -26,7 +26,7 @@ impl Formatter {
         use Directive as D;
         match directive {
             D::WorldEnd => return None,
-            D::AttributeEnd | D::TransformEnd | D::ObjectEnd => {
+            D::AttributeEnd | D::ObjectEnd => {
                 self.depth = self.depth.saturating_sub(1)
             }
             _ => {}
@@ -34,13 +34,10 @@ impl Formatter {
         let indent = "    ".repeat(self.depth);
         let mut text = match directive {
             D::WorldBegin => "\nWorldBegin\n".to_string(),
-            // pbrt-v4 spells the deprecated pair as attributes.
-            D::TransformBegin => format!("{indent}AttributeBegin"),
-            D::TransformEnd => format!("{indent}AttributeEnd"),
             d => Indented(d, &indent).to_string(),
         };
         text.push('\n');
-        if matches!(directive, D::AttributeBegin | D::TransformBegin | D::ObjectBegin(_)) {
+        if matches!(directive, D::AttributeBegin | D::ObjectBegin(_)) {
             self.depth += 1;
         }
         Some(text)

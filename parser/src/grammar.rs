@@ -125,8 +125,10 @@ pub(crate) fn directive<'a>(input: &'a [u8], locate: &Locate<'_>) -> PResult<'a,
             let (r, m) = fixed_numbers::<16>(rest, "Transform")?;
             Ok((r, D::Transform(m)))
         }
-        b"TransformBegin" => Ok((rest, D::TransformBegin)),
-        b"TransformEnd" => Ok((rest, D::TransformEnd)),
+        // Deprecated; pbrt-v4 treats them as AttributeBegin/End (the parser
+        // warns).
+        b"TransformBegin" => Ok((rest, D::AttributeBegin)),
+        b"TransformEnd" => Ok((rest, D::AttributeEnd)),
         b"TransformTimes" => {
             let (r, [a, b]) = fixed_numbers::<2>(rest, "TransformTimes")?;
             Ok((r, D::TransformTimes(a, b)))

@@ -132,10 +132,16 @@ impl Parser {
             let Some(top) = self.stack.last_mut() else {
                 return Ok(None);
             };
-            let Some(mut located) = top.next_directive()? else {
+            let Some((mut located, deprecated)) = top.next_directive()? else {
                 self.stack.pop();
                 continue;
             };
+            if deprecated {
+                self.warn(
+                    "TransformBegin/TransformEnd are deprecated in pbrt-v4 and read as AttributeBegin/AttributeEnd".into(),
+                    &located.location,
+                );
+            }
             match &located.directive {
                 Directive::Import(_) if !self.in_world => {
                     return Err(ParseError::new(
@@ -149,13 +155,6 @@ impl Parser {
                     continue;
                 }
                 Directive::WorldBegin => self.in_world = true,
-                Directive::TransformBegin | Directive::TransformEnd => self.warn(
-                    format!(
-                        "{} is deprecated in pbrt-v4; use AttributeBegin/AttributeEnd",
-                        located.directive.keyword()
-                    ),
-                    &located.location,
-                ),
                 _ => {}
             }
             let mut notes = Vec::new();

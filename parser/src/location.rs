@@ -11,12 +11,17 @@ use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
 /// A scene file (or an in-memory text standing for one).
-#[derive(Debug)]
 pub struct SourceFile {
     /// Path as given (or a name such as `<string>` for in-memory text).
     pub path: PathBuf,
     /// The text, when it does not live on disk.
     text: Option<Arc<[u8]>>,
+}
+
+impl std::fmt::Debug for SourceFile {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "SourceFile({})", self.path.display())
+    }
 }
 
 impl SourceFile {

@@ -122,8 +122,9 @@ impl Source {
         Ok(())
     }
 
-    /// The next directive, or `None` at the end of the file.
-    pub fn next_directive(&mut self) -> Result<Option<Located>, ParseError> {
+    /// The next directive, or `None` at the end of the file; `true` with
+    /// it when it was written as the deprecated TransformBegin/End.
+    pub fn next_directive(&mut self) -> Result<Option<(Located, bool)>, ParseError> {
         loop {
             let outcome = {
                 let window = &self.buf[self.pos..];
@@ -143,6 +144,7 @@ impl Source {
                                     directive,
                                     at(start),
                                     window.len() - rest.len(),
+                                    start.starts_with(b"TransformBegin") || start.starts_with(b"TransformEnd"),
                                 )
                             }
                         }
@@ -166,12 +168,13 @@ impl Source {
                     self.read_more()?;
                 }
                 Outcome::NeedMore => self.read_more()?,
-                Outcome::Directive(directive, offset, consumed) => {
+                Outcome::Directive(directive, offset, consumed, deprecated) => {
                     self.pos += consumed;
-                    return Ok(Some(Located {
+                    let located = Located {
                         directive,
                         location: Location::new(self.file.clone(), offset),
-                    }));
+                    };
+                    return Ok(Some((located, deprecated)));
                 }
                 Outcome::Error(kind, offset) => {
                     return Err(ParseError::new(kind, Location::new(self.file.clone(), offset)))
@@ -184,6 +187,6 @@ impl Source {
 enum Outcome {
     End(usize),
     NeedMore,
-    Directive(crate::directive::Directive, usize, usize),
+    Directive(crate::directive::Directive, usize, usize, bool),
     Error(ErrorKind, usize),
 }

@@ -209,6 +209,16 @@ impl SceneBuilder {
         })
     }
 
+    /// `WorldBegin`: the world block starts with the identity transform.
+    pub fn begin_world(&mut self) {
+        self.block = Block::World;
+        self.world_begun = true;
+        self.state.ctm = [Transform::IDENTITY; 2];
+        self.state.active = [true; 2];
+        self.named_coordinate_systems
+            .insert("world".to_string(), [Transform::IDENTITY; 2]);
+    }
+
     /// Applies one directive.
     pub fn apply(&mut self, located: Located) -> Result<()> {
         let Located { directive, location } = located;
@@ -313,19 +323,14 @@ impl SceneBuilder {
             }
             D::WorldBegin => {
                 self.require(Block::Options, keyword, loc)?;
-                self.block = Block::World;
-                self.world_begun = true;
-                self.state.ctm = [Transform::IDENTITY; 2];
-                self.state.active = [true; 2];
-                self.named_coordinate_systems
-                    .insert("world".to_string(), [Transform::IDENTITY; 2]);
+                self.begin_world();
             }
             D::WorldEnd => {}
-            D::AttributeBegin | D::TransformBegin => {
+            D::AttributeBegin => {
                 self.require(Block::World, keyword, loc)?;
                 self.stack.push((self.state.clone(), Nesting::Attribute, location.clone()));
             }
-            D::AttributeEnd | D::TransformEnd => {
+            D::AttributeEnd => {
                 self.require(Block::World, keyword, loc)?;
                 match self.stack.last() {
                     None => return scene_error(format!("unmatched {keyword} (no AttributeBegin is open)"), loc),
@@ -692,7 +697,17 @@ pub struct Loaded {
 pub fn load(path: &Path) -> Result<Loaded> {
     let parser = Parser::open(path)?;
     let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
-    describe(parser, base)
+    describe(parser, SceneBuilder::new(base))
+}
+
+/// Parses and describes a file meant to be included inside the world block
+/// (a geometry file): it is read as if `WorldBegin` came just before it.
+pub fn load_fragment(path: &Path) -> Result<Loaded> {
+    let parser = Parser::open(path)?;
+    let base = path.parent().map(Path::to_path_buf).unwrap_or_default();
+    let mut builder = SceneBuilder::new(base);
+    builder.begin_world();
+    describe(parser, builder)
 }
 
 /// Parses and describes scene text held in memory (`name` stands for its
@@ -700,11 +715,11 @@ pub fn load(path: &Path) -> Result<Loaded> {
 pub fn load_text(name: &Path, text: &str) -> Result<Loaded> {
     let parser = Parser::from_text(name, text);
     let base = name.parent().map(Path::to_path_buf).unwrap_or_default();
-    describe(parser, base)
+    describe(parser, SceneBuilder::new(base))
 }
 
-fn describe(mut parser: Parser, base: PathBuf) -> Result<Loaded> {
-    let mut builder = SceneBuilder::new(base);
+/// Feeds every directive of `parser` to `builder`.
+pub fn describe(mut parser: Parser, mut builder: SceneBuilder) -> Result<Loaded> {
     let mut last = None;
     while let Some(directive) = parser.next() {
         let directive = directive.map_err(Error::from)?;

@@ -6,6 +6,6 @@ pub mod description;
 pub mod params;
 pub mod schema;
 
-pub use builder::{load, load_text, Loaded, SceneBuilder};
+pub use builder::{describe, load, load_fragment, load_text, Loaded, SceneBuilder};
 pub use description::SceneDescription;
 pub use params::ParamSet;

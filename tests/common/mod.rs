@@ -1,0 +1,49 @@
+//! Helpers shared by the scene-level tests.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+
+/// `../shared` beside the project, or `None` (with a message) when absent.
+pub fn shared_dir() -> Option<PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared");
+    if dir.join("scenes").is_dir() {
+        Some(dir)
+    } else {
+        eprintln!("skipping: ../shared/scenes is not present beside the project");
+        None
+    }
+}
+
+/// Every `.pbrt` / `.pbrt.gz` below `dir`, sorted.
+pub fn scene_files(dir: &Path) -> Vec<PathBuf> {
+    let mut out = Vec::new();
+    let mut stack = vec![dir.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        let Ok(entries) = std::fs::read_dir(&d) else { continue };
+        for entry in entries.flatten() {
+            let path = entry.path();
+            if path.is_dir() {
+                stack.push(path);
+            } else {
+                let name = path.to_string_lossy();
+                if name.ends_with(".pbrt") || name.ends_with(".pbrt.gz") {
+                    out.push(path);
+                }
+            }
+        }
+    }
+    out.sort();
+    out
+}
+
+/// Whether an error is an `Include`/`Import` of a file that does not exist
+/// (some shared scenes include geometry too large to be shipped).
+pub fn is_absent_include(e: &rpbrt::Error) -> bool {
+    match e {
+        rpbrt::Error::Parse(p) => matches!(
+            &p.kind,
+            pbrt_parser::ErrorKind::CannotRead { path, .. } if !Path::new(path).exists()
+        ),
+        _ => false,
+    }
+}
