@@ -61,7 +61,7 @@ pub(crate) fn directive<'a>(input: &'a [u8], locate: &Locate<'_>) -> PResult<'a,
         b"Camera" => entity_of(D::Camera),
         b"ColorSpace" => string(D::ColorSpace),
         b"ConcatTransform" => {
-            let (r, m) = fixed_numbers::<16>(rest, "ConcatTransform")?;
+            let (r, m) = fixed_numbers::<16>(input, rest, "ConcatTransform")?;
             Ok((r, D::ConcatTransform(m)))
         }
         b"CoordinateSystem" => string(D::CoordinateSystem),
@@ -73,7 +73,7 @@ pub(crate) fn directive<'a>(input: &'a [u8], locate: &Locate<'_>) -> PResult<'a,
         b"Integrator" => entity_of(D::Integrator),
         b"LightSource" => entity_of(D::LightSource),
         b"LookAt" => {
-            let (r, v) = fixed_numbers::<9>(rest, "LookAt")?;
+            let (r, v) = fixed_numbers::<9>(input, rest, "LookAt")?;
             Ok((r, D::LookAt(v)))
         }
         b"MakeNamedMaterial" => entity_of(D::MakeNamedMaterial),
@@ -106,12 +106,12 @@ pub(crate) fn directive<'a>(input: &'a [u8], locate: &Locate<'_>) -> PResult<'a,
         b"PixelFilter" => entity_of(D::PixelFilter),
         b"ReverseOrientation" => Ok((rest, D::ReverseOrientation)),
         b"Rotate" => {
-            let (r, v) = fixed_numbers::<4>(rest, "Rotate")?;
+            let (r, v) = fixed_numbers::<4>(input, rest, "Rotate")?;
             Ok((r, D::Rotate(v)))
         }
         b"Sampler" => entity_of(D::Sampler),
         b"Scale" => {
-            let (r, v) = fixed_numbers::<3>(rest, "Scale")?;
+            let (r, v) = fixed_numbers::<3>(input, rest, "Scale")?;
             Ok((r, D::Scale(v)))
         }
         b"Shape" => entity_of(D::Shape),
@@ -122,7 +122,7 @@ pub(crate) fn directive<'a>(input: &'a [u8], locate: &Locate<'_>) -> PResult<'a,
             Ok((r, D::Texture { name, value_type, class }))
         }
         b"Transform" => {
-            let (r, m) = fixed_numbers::<16>(rest, "Transform")?;
+            let (r, m) = fixed_numbers::<16>(input, rest, "Transform")?;
             Ok((r, D::Transform(m)))
         }
         // Deprecated; pbrt-v4 treats them as AttributeBegin/End (the parser
@@ -130,11 +130,11 @@ pub(crate) fn directive<'a>(input: &'a [u8], locate: &Locate<'_>) -> PResult<'a,
         b"TransformBegin" => Ok((rest, D::AttributeBegin)),
         b"TransformEnd" => Ok((rest, D::AttributeEnd)),
         b"TransformTimes" => {
-            let (r, [a, b]) = fixed_numbers::<2>(rest, "TransformTimes")?;
+            let (r, [a, b]) = fixed_numbers::<2>(input, rest, "TransformTimes")?;
             Ok((r, D::TransformTimes(a, b)))
         }
         b"Translate" => {
-            let (r, v) = fixed_numbers::<3>(rest, "Translate")?;
+            let (r, v) = fixed_numbers::<3>(input, rest, "Translate")?;
             Ok((r, D::Translate(v)))
         }
         b"WorldBegin" => Ok((rest, D::WorldBegin)),
@@ -167,8 +167,13 @@ fn string_argument(input: &[u8]) -> PResult<'_, String> {
     lexer::quoted_string(input)
 }
 
-/// `N` numbers, bare or in brackets.
-fn fixed_numbers<'a, const N: usize>(input: &'a [u8], directive: &'static str) -> PResult<'a, [f64; N]> {
+/// `N` numbers, bare or in brackets. A wrong count is reported at the
+/// directive (`keyword` is where it starts).
+fn fixed_numbers<'a, const N: usize>(
+    keyword: &'a [u8],
+    input: &'a [u8],
+    directive: &'static str,
+) -> PResult<'a, [f64; N]> {
     let mut rest = lexer::skip_space(input);
     let bracketed = rest.first() == Some(&b'[');
     if bracketed {
@@ -192,7 +197,7 @@ fn fixed_numbers<'a, const N: usize>(input: &'a [u8], directive: &'static str) -
     }
     if found != N {
         return fail(
-            input,
+            keyword,
             ErrorKind::WrongArgumentCount {
                 directive,
                 expected: N,

@@ -1,0 +1,132 @@
+//! Malformed scenes: each gives its own error message at the right
+//! line:col, and nothing panics.
+
+use rpbrt::scene;
+use std::path::{Path, PathBuf};
+
+/// (scene text, expected line:col, text the message must contain)
+const CASES: &[(&str, &str, &str)] = &[
+    // Tokens.
+    ("WorldBegin\nShapee \"sphere\"", "2:1", "unknown directive \"Shapee\""),
+    ("WorldBegin\n  Shape \"sphere", "2:9", "unterminated string"),
+    ("WorldBegin\nShape \"sphere\" \"float radius\" [ 1.2.3 ]", "2:33", "bad number \"1.2.3\""),
+    ("WorldBegin\nShape \"sphere\" \"float radius\" 2x", "2:31", "bad number \"2x\""),
+    ("Translate 1 2 nan", "1:1", "expected 3 numbers, found 2"),
+    ("WorldBegin\n[ 1 2 ]", "2:1", "expected a directive, found \"[\""),
+    ("WorldBegin\nShape \"sphere\" \"float radius\" [ 1 2", "2:36", "unexpected end of file: expected ']'"),
+    // Parameter declarations and values.
+    ("WorldBegin\nShape \"sphere\" \"float\" 1", "2:16", "malformed parameter declaration \"float\""),
+    ("WorldBegin\nShape \"sphere\" \"floaty radius\" 1", "2:16", "unknown parameter type \"floaty\""),
+    ("WorldBegin\nShape \"trianglemesh\" \"point3 P\" [ 0 0 0 1 ]", "2:22", "4 values given, expected a multiple of 3"),
+    ("WorldBegin\nMaterial \"diffuse\" \"rgb reflectance\" [ .5 .5 ]", "2:20", "2 values given, expected a multiple of 3"),
+    ("WorldBegin\nShape \"trianglemesh\" \"integer indices\" [ 0 1 2.5 ]", "2:22", "2.5 is not an integer"),
+    ("WorldBegin\nShape \"sphere\" \"float radius\" [ 1 \"two\" ]", "2:35", "mixed values in one list"),
+    ("WorldBegin\nShape \"sphere\" \"float radius\" \"one\"", "2:16", "expected numeric values"),
+    ("WorldBegin\nLightSource \"infinite\" \"spectrum L\" [ 300 1 400 ]", "2:24", "3 values given, expected a multiple of 2"),
+    ("Option \"bool disablepixeljitter\" 1\nWorldBegin", "1:8", "expected bool (true or false) values"),
+    ("Transform [ 1 0 0 0 0 1 0 0 0 0 1 0 0 0 0 ]\nWorldBegin", "1:1", "expected 16 numbers, found 15"),
+    ("ActiveTransform Sometimes\nWorldBegin", "1:17", "expected StartTime, EndTime or All"),
+    // Blocks and nesting.
+    ("Shape \"sphere\"\nWorldBegin", "1:1", "\"Shape\" is only allowed inside the world block"),
+    ("WorldBegin\nCamera \"perspective\"", "2:1", "\"Camera\" is not allowed after WorldBegin"),
+    ("Import \"geometry.pbrt\"\nWorldBegin", "1:1", "Import is only allowed inside the world block"),
+    ("WorldBegin\nAttributeEnd", "2:1", "unmatched AttributeEnd"),
+    ("WorldBegin\nObjectEnd", "2:1", "ObjectEnd outside an object definition"),
+    ("WorldBegin\nObjectBegin \"a\"\nObjectBegin \"b\"", "3:1", "objects cannot nest"),
+    ("Camera \"perspective\"", "1:1", "end of file before WorldBegin"),
+    // Types and parameters.
+    ("WorldBegin\nShape \"spheer\"", "2:1", "unknown shape type \"spheer\""),
+    ("WorldBegin\nShape \"sphere\"\n    \"float raduis\" 1", "3:5", "\"float raduis\": unused parameter"),
+    ("WorldBegin\nShape \"sphere\" \"integer radius\" 1", "2:16", "\"integer radius\": parameter \"radius\" has the wrong type; expected float"),
+    ("WorldBegin\nMakeNamedMaterial \"m\" \"rgb reflectance\" [ 1 1 1 ]", "2:1", "\"string type\" not provided"),
+    ("WorldBegin\nMakeNamedMaterial \"m\" \"string type\" \"diffuse\"\nMakeNamedMaterial \"m\" \"string type\" \"diffuse\"", "3:1", "named material \"m\" redefined"),
+    ("WorldBegin\nTexture \"t\" \"colour\" \"constant\"", "2:1", "texture type \"colour\" unknown"),
+    ("WorldBegin\nAttribute \"camera\" \"float fov\" 30", "2:1", "unknown Attribute target \"camera\""),
+    ("Option \"bogus\" 3\nWorldBegin", "1:8", "unknown option \"bogus\""),
+    ("WorldBegin\nRotate 30 0 0 0", "2:1", "Rotate needs a non-zero axis"),
+    ("LookAt 0 0 1  0 0 0  0 0 1\nWorldBegin", "1:1", "up vector is parallel"),
+    ("ColorSpace \"srgbb\"\nWorldBegin", "1:1", "unknown colour space \"srgbb\""),
+    // References resolved at the end.
+    ("WorldBegin\nNamedMaterial \"nothing\"\nShape \"sphere\"", "3:1", "NamedMaterial \"nothing\" is not defined"),
+    ("WorldBegin\nObjectInstance \"nothing\"", "2:1", "object \"nothing\" is not defined"),
+    ("WorldBegin\nMaterial \"diffuse\" \"texture reflectance\" \"nothing\"", "2:20", "texture \"nothing\" is not defined"),
+    ("WorldBegin\nMediumInterface \"fog\" \"\"\nShape \"sphere\"", "3:1", "medium \"fog\" is not defined"),
+];
+
+/// Checks one case; a description of what is wrong, if anything.
+fn try_case(name: &Path, text: &str, at: &str, message: &str) -> Result<(), String> {
+    let result = std::panic::catch_unwind(|| scene::load_text(name, text));
+    let Ok(result) = result else {
+        return Err(format!("panicked on {text:?}"));
+    };
+    let Err(error) = result else {
+        return Err(format!("no error for {text:?}"));
+    };
+    let printed = error.to_string();
+    let first = printed.lines().next().unwrap_or("");
+    let expected_location = format!("{}:{at}:", name.display());
+    if !first.starts_with(&expected_location) {
+        return Err(format!("{text:?}: expected the error at {expected_location}, got:\n{printed}"));
+    }
+    if !first.contains(message) {
+        return Err(format!("{text:?}: expected \"{message}\" in:\n{printed}"));
+    }
+    // The offending line is shown with a caret under the column.
+    let mut lines = printed.lines();
+    lines.next();
+    if !(lines.next().is_some() && lines.next().is_some_and(|l| l.trim_end().ends_with('^'))) {
+        return Err(format!("no caret excerpt in:\n{printed}"));
+    }
+    Ok(())
+}
+
+fn check(name: &Path, text: &str, at: &str, message: &str) {
+    if let Err(e) = try_case(name, text, at, message) {
+        panic!("{e}");
+    }
+}
+
+#[test]
+fn each_malformed_input_gives_its_error_at_its_location() {
+    assert!(CASES.len() >= 25);
+    let failures: Vec<String> = CASES
+        .iter()
+        .filter_map(|(text, at, message)| try_case(Path::new("bad.pbrt"), text, at, message).err())
+        .collect();
+    assert!(failures.is_empty(), "{} of {} cases failed:\n\n{}", failures.len(), CASES.len(), failures.join("\n\n"));
+}
+
+fn temp_dir(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("rpbrt-malformed-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+#[test]
+fn missing_and_cyclic_includes() {
+    let dir = temp_dir("includes");
+    let main = dir.join("main.pbrt");
+    check(&main, "WorldBegin\n  Include \"absent.pbrt\"", "2:3", "cannot read");
+    std::fs::write(dir.join("a.pbrt"), "Include \"b.pbrt\"\n").unwrap();
+    std::fs::write(dir.join("b.pbrt"), "\n\nInclude \"a.pbrt\"\n").unwrap();
+    let b = dir.join("b.pbrt");
+    let error = scene::load_text(&main, "WorldBegin\nInclude \"a.pbrt\"").err().unwrap().to_string();
+    assert!(error.starts_with(&format!("{}:3:1:", b.display())), "{error}");
+    assert!(error.contains("cyclic"), "{error}");
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn errors_inside_gzipped_includes_point_into_them() {
+    use std::io::Write;
+    let dir = temp_dir("gz");
+    let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
+    gz.write_all(b"Shape \"sphere\"\n Shape \"sphere\" \"float radius\" [ 1 oops ]\n").unwrap();
+    std::fs::write(dir.join("geometry.pbrt.gz"), gz.finish().unwrap()).unwrap();
+    let error = scene::load_text(&dir.join("main.pbrt"), "WorldBegin\nInclude \"geometry.pbrt.gz\"")
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(error.contains("geometry.pbrt.gz:2:36: expected a value or ']', found \"oops\""), "{error}");
+    std::fs::remove_dir_all(&dir).ok();
+}
