@@ -7,5 +7,6 @@
 pub mod error;
 pub mod math;
 pub mod scene;
+pub mod tools;
 
 pub use error::{Error, Result};

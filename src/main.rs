@@ -63,11 +63,15 @@ fn format(cli: &Cli) -> Result<(), Error> {
         path: "<stdout>".to_string(),
         source,
     };
+    let mut text = String::with_capacity(1 << 16);
     for directive in parser.by_ref() {
-        if let Some(text) = formatter.format(&directive?.directive) {
+        formatter.write(&directive?.directive, &mut text);
+        if text.len() >= 1 << 16 {
             out.write_all(text.as_bytes()).map_err(io_error)?;
+            text.clear();
         }
     }
+    out.write_all(text.as_bytes()).map_err(io_error)?;
     out.flush().map_err(io_error)?;
     if !cli.quiet {
         for w in parser.take_warnings() {

@@ -66,7 +66,9 @@ fn try_case(name: &Path, text: &str, at: &str, message: &str) -> Result<(), Stri
     let first = printed.lines().next().unwrap_or("");
     let expected_location = format!("{}:{at}:", name.display());
     if !first.starts_with(&expected_location) {
-        return Err(format!("{text:?}: expected the error at {expected_location}, got:\n{printed}"));
+        return Err(format!(
+            "{text:?}: expected the error at {expected_location}, got:\n{printed}"
+        ));
     }
     if !first.contains(message) {
         return Err(format!("{text:?}: expected \"{message}\" in:\n{printed}"));
@@ -93,7 +95,13 @@ fn each_malformed_input_gives_its_error_at_its_location() {
         .iter()
         .filter_map(|(text, at, message)| try_case(Path::new("bad.pbrt"), text, at, message).err())
         .collect();
-    assert!(failures.is_empty(), "{} of {} cases failed:\n\n{}", failures.len(), CASES.len(), failures.join("\n\n"));
+    assert!(
+        failures.is_empty(),
+        "{} of {} cases failed:\n\n{}",
+        failures.len(),
+        CASES.len(),
+        failures.join("\n\n")
+    );
 }
 
 fn temp_dir(name: &str) -> PathBuf {
@@ -106,12 +114,23 @@ fn temp_dir(name: &str) -> PathBuf {
 fn missing_and_cyclic_includes() {
     let dir = temp_dir("includes");
     let main = dir.join("main.pbrt");
-    check(&main, "WorldBegin\n  Include \"absent.pbrt\"", "2:3", "cannot read");
+    check(
+        &main,
+        "WorldBegin\n  Include \"absent.pbrt\"",
+        "2:3",
+        "cannot read",
+    );
     std::fs::write(dir.join("a.pbrt"), "Include \"b.pbrt\"\n").unwrap();
     std::fs::write(dir.join("b.pbrt"), "\n\nInclude \"a.pbrt\"\n").unwrap();
     let b = dir.join("b.pbrt");
-    let error = scene::load_text(&main, "WorldBegin\nInclude \"a.pbrt\"").err().unwrap().to_string();
-    assert!(error.starts_with(&format!("{}:3:1:", b.display())), "{error}");
+    let error = scene::load_text(&main, "WorldBegin\nInclude \"a.pbrt\"")
+        .err()
+        .unwrap()
+        .to_string();
+    assert!(
+        error.starts_with(&format!("{}:3:1:", b.display())),
+        "{error}"
+    );
     assert!(error.contains("cyclic"), "{error}");
     std::fs::remove_dir_all(&dir).ok();
 }
@@ -121,12 +140,19 @@ fn errors_inside_gzipped_includes_point_into_them() {
     use std::io::Write;
     let dir = temp_dir("gz");
     let mut gz = flate2::write::GzEncoder::new(Vec::new(), flate2::Compression::default());
-    gz.write_all(b"Shape \"sphere\"\n Shape \"sphere\" \"float radius\" [ 1 oops ]\n").unwrap();
+    gz.write_all(b"Shape \"sphere\"\n Shape \"sphere\" \"float radius\" [ 1 oops ]\n")
+        .unwrap();
     std::fs::write(dir.join("geometry.pbrt.gz"), gz.finish().unwrap()).unwrap();
-    let error = scene::load_text(&dir.join("main.pbrt"), "WorldBegin\nInclude \"geometry.pbrt.gz\"")
-        .err()
-        .unwrap()
-        .to_string();
-    assert!(error.contains("geometry.pbrt.gz:2:36: expected a value or ']', found \"oops\""), "{error}");
+    let error = scene::load_text(
+        &dir.join("main.pbrt"),
+        "WorldBegin\nInclude \"geometry.pbrt.gz\"",
+    )
+    .err()
+    .unwrap()
+    .to_string();
+    assert!(
+        error.contains("geometry.pbrt.gz:2:36: expected a value or ']', found \"oops\""),
+        "{error}"
+    );
     std::fs::remove_dir_all(&dir).ok();
 }

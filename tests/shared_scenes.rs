@@ -16,7 +16,9 @@ fn fragments(files: &[PathBuf]) -> HashSet<PathBuf> {
     files
         .iter()
         .filter(|file| {
-            let Ok(parser) = Parser::open(file) else { return false };
+            let Ok(parser) = Parser::open(file) else {
+                return false;
+            };
             !parser
                 .follow_includes(false)
                 .flatten()
@@ -44,10 +46,13 @@ fn directives_and_round_trip(file: &Path) -> (Vec<Directive>, String, Vec<Direct
         .filter(|d| *d != Directive::WorldEnd)
         .collect();
     let mut formatter = Formatter::default();
-    let text: String = original.iter().filter_map(|d| formatter.format(d)).collect();
+    let text: String = original.iter().map(|d| formatter.format(d)).collect();
     let again: Vec<Directive> = Parser::from_text(file, text.clone())
         .follow_includes(false)
-        .map(|d| d.unwrap_or_else(|e| panic!("formatted {}: {e}", file.display())).directive)
+        .map(|d| {
+            d.unwrap_or_else(|e| panic!("formatted {}: {e}", file.display()))
+                .directive
+        })
         .collect();
     (original, text, again)
 }
@@ -58,7 +63,10 @@ fn describe_without_includes(file: &Path) -> rpbrt::Result<()> {
     for directive in Parser::open(file)?.follow_includes(false) {
         let directive = directive?;
         last = Some(directive.location.clone());
-        if !matches!(directive.directive, Directive::Include(_) | Directive::Import(_)) {
+        if !matches!(
+            directive.directive,
+            Directive::Include(_) | Directive::Import(_)
+        ) {
             builder.apply(directive)?;
         }
     }
@@ -81,8 +89,9 @@ fn every_shared_scene_parses_and_builds() {
             Err(e) if is_absent_include(&e) => {
                 // Still describe the rest of the file (its pbrt-v3 names,
                 // materials, camera), with the absent includes left out.
-                describe_without_includes(file)
-                    .unwrap_or_else(|e| failures.push(format!("{} (includes left out): {e}", file.display())));
+                describe_without_includes(file).unwrap_or_else(|e| {
+                    failures.push(format!("{} (includes left out): {e}", file.display()))
+                });
                 absent.push(format!("{}: {e}", file.display()))
             }
             Err(e) => failures.push(format!("{}: {e}", file.display())),
@@ -108,13 +117,25 @@ fn formatting_round_trips_every_shared_scene() {
     let mut compared = 0;
     for file in &files {
         let (original, text, again) = directives_and_round_trip(file);
-        assert_eq!(original.len(), again.len(), "{}: directive count differs after formatting", file.display());
+        assert_eq!(
+            original.len(),
+            again.len(),
+            "{}: directive count differs after formatting",
+            file.display()
+        );
         if let Some(i) = (0..original.len()).find(|&i| original[i] != again[i]) {
-            panic!("{}: directive {i} differs after formatting:\n{}\n{}", file.display(), original[i], again[i]);
+            panic!(
+                "{}: directive {i} differs after formatting:\n{}\n{}",
+                file.display(),
+                original[i],
+                again[i]
+            );
         }
         // Where the whole scene can be described, so must its formatted text.
         let fragment = fragments.contains(&file.canonicalize().unwrap());
-        let Ok(expected) = load(file, fragment) else { continue };
+        let Ok(expected) = load(file, fragment) else {
+            continue;
+        };
         let base = file.parent().unwrap().to_path_buf();
         let mut builder = SceneBuilder::new(base);
         if fragment {

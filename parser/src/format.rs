@@ -3,44 +3,44 @@
 //! shown by indentation.
 
 use crate::directive::Directive;
-use std::fmt;
 
 /// Tracks the indentation of a directive stream.
 #[derive(Default)]
 pub struct Formatter {
     depth: usize,
-}
-
-struct Indented<'a>(&'a Directive, &'a str);
-
-impl fmt::Display for Indented<'_> {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        self.0.write(f, self.1)
-    }
+    indent: String,
 }
 
 impl Formatter {
-    /// The text for `directive` (ending in a newline); `None` for
-    /// directives that have no pbrt-v4 text (pbrt-v3's WorldEnd).
-    pub fn format(&mut self, directive: &Directive) -> Option<String> {
+    /// Appends the text for `directive` (ending in a newline) to `out`;
+    /// directives that have no pbrt-v4 text (pbrt-v3's WorldEnd) add nothing.
+    pub fn write(&mut self, directive: &Directive, out: &mut String) {
         use Directive as D;
         match directive {
-            D::WorldEnd => return None,
-            D::AttributeEnd | D::ObjectEnd => {
-                self.depth = self.depth.saturating_sub(1)
-            }
+            D::WorldEnd => return,
+            D::AttributeEnd | D::ObjectEnd => self.set_depth(self.depth.saturating_sub(1)),
             _ => {}
         }
-        let indent = "    ".repeat(self.depth);
-        let mut text = match directive {
-            D::WorldBegin => "\nWorldBegin\n".to_string(),
-            d => Indented(d, &indent).to_string(),
-        };
-        text.push('\n');
-        if matches!(directive, D::AttributeBegin | D::ObjectBegin(_)) {
-            self.depth += 1;
+        match directive {
+            D::WorldBegin => out.push_str("\nWorldBegin\n"),
+            d => d.write_to(out, &self.indent),
         }
-        Some(text)
+        out.push('\n');
+        if matches!(directive, D::AttributeBegin | D::ObjectBegin(_)) {
+            self.set_depth(self.depth + 1);
+        }
+    }
+
+    /// The text for one directive (empty for pbrt-v3's WorldEnd).
+    pub fn format(&mut self, directive: &Directive) -> String {
+        let mut out = String::new();
+        self.write(directive, &mut out);
+        out
+    }
+
+    fn set_depth(&mut self, depth: usize) {
+        self.depth = depth;
+        self.indent = "    ".repeat(depth);
     }
 }
 
@@ -54,10 +54,10 @@ mod tests {
         let mut f = Formatter::default();
         let text: String = Parser::from_text(
             "<f>",
-            "WorldBegin AttributeBegin Shape \"sphere\" \"float radius\" 1 AttributeEnd Include \"x.pbrt\"",
+            "WorldBegin AttributeBegin Shape \"sphere\" \"float radius\" 1 AttributeEnd Include \"x.pbrt\" WorldEnd",
         )
         .follow_includes(false)
-        .filter_map(|d| f.format(&d.unwrap().directive))
+        .map(|d| f.format(&d.unwrap().directive))
         .collect();
         assert_eq!(
             text,

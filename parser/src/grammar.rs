@@ -14,7 +14,10 @@ pub(crate) fn directive<'a>(input: &'a [u8], locate: &Locate<'_>) -> PResult<'a,
     let (rest, keyword) = match lexer::word(input) {
         Ok(ok) => ok,
         Err(_) => {
-            let kind = if input.first() == Some(&b'"') || lexer::starts_number(input) || input.first() == Some(&b'[') {
+            let kind = if input.first() == Some(&b'"')
+                || lexer::starts_number(input)
+                || input.first() == Some(&b'[')
+            {
                 ErrorKind::Expected {
                     expected: "a directive",
                     found: describe(input),
@@ -26,7 +29,10 @@ pub(crate) fn directive<'a>(input: &'a [u8], locate: &Locate<'_>) -> PResult<'a,
         }
     };
     if !rest.first().is_none_or(|&b| lexer::is_delimiter(b)) {
-        let end = input.iter().position(|&b| lexer::is_delimiter(b)).unwrap_or(input.len());
+        let end = input
+            .iter()
+            .position(|&b| lexer::is_delimiter(b))
+            .unwrap_or(input.len());
         return fail(
             input,
             ErrorKind::UnknownDirective(String::from_utf8_lossy(&input[..end]).into_owned()),
@@ -86,7 +92,13 @@ pub(crate) fn directive<'a>(input: &'a [u8], locate: &Locate<'_>) -> PResult<'a,
                 let (r2, outside) = lexer::quoted_string(r1)?;
                 Ok((r2, D::MediumInterface { inside, outside }))
             } else {
-                Ok((r, D::MediumInterface { outside: inside.clone(), inside }))
+                Ok((
+                    r,
+                    D::MediumInterface {
+                        outside: inside.clone(),
+                        inside,
+                    },
+                ))
             }
         }
         b"NamedMaterial" => string(D::NamedMaterial),
@@ -119,7 +131,14 @@ pub(crate) fn directive<'a>(input: &'a [u8], locate: &Locate<'_>) -> PResult<'a,
             let (r, name) = string_argument(rest)?;
             let (r, value_type) = string_argument(r)?;
             let (r, class) = entity(r, locate)?;
-            Ok((r, D::Texture { name, value_type, class }))
+            Ok((
+                r,
+                D::Texture {
+                    name,
+                    value_type,
+                    class,
+                },
+            ))
         }
         b"Transform" => {
             let (r, m) = fixed_numbers::<16>(input, rest, "Transform")?;

@@ -61,7 +61,10 @@ pub fn describe(input: &[u8]) -> String {
 /// Bytes that end a bare word or number.
 #[inline]
 pub fn is_delimiter(b: u8) -> bool {
-    matches!(b, b' ' | b'\t' | b'\n' | b'\r' | b'\x0b' | b'\x0c' | b'[' | b']' | b'"' | b'#')
+    matches!(
+        b,
+        b' ' | b'\t' | b'\n' | b'\r' | b'\x0b' | b'\x0c' | b'[' | b']' | b'"' | b'#'
+    )
 }
 
 /// Skips whitespace and `#` comments (to the end of the line).
@@ -134,7 +137,9 @@ fn escaped_string<'a>(start: &'a [u8], mut rest: &'a [u8]) -> PResult<'a, String
                 });
                 rest = tail;
             }
-            [b'\n' | b'\r', ..] | [] | [b'\\'] => return fail(start, ErrorKind::UnterminatedString),
+            [b'\n' | b'\r', ..] | [] | [b'\\'] => {
+                return fail(start, ErrorKind::UnterminatedString)
+            }
             [c, tail @ ..] => {
                 bytes.push(*c);
                 rest = tail;
@@ -158,7 +163,10 @@ pub fn starts_number(input: &[u8]) -> bool {
 /// must be a number: `1.5x` and `nan` are errors, not `1.5` then `x`.
 #[inline]
 pub fn number(input: &[u8]) -> PResult<'_, f64> {
-    let len = input.iter().position(|&b| !is_number_byte(b)).unwrap_or(input.len());
+    let len = input
+        .iter()
+        .position(|&b| !is_number_byte(b))
+        .unwrap_or(input.len());
     let token_end = input[len..]
         .iter()
         .position(|&b| is_delimiter(b))
@@ -212,7 +220,10 @@ mod tests {
 
     #[test]
     fn strings_with_escapes() {
-        assert_eq!(quoted_string(b"\"abc\" x").unwrap(), (&b" x"[..], "abc".to_string()));
+        assert_eq!(
+            quoted_string(b"\"abc\" x").unwrap(),
+            (&b" x"[..], "abc".to_string())
+        );
         assert_eq!(quoted_string(b"\"a\\\"b\\n\"").unwrap().1, "a\"b\n");
         assert_eq!(quoted_string(b"\"\"").unwrap().1, "");
     }
@@ -231,6 +242,9 @@ mod tests {
     fn comments_and_space() {
         assert_eq!(skip_space(b"  # comment\n\t x"), b"x");
         assert_eq!(skip_space(b"# only a comment"), b"");
-        assert_eq!(word(b"WorldBegin\n").unwrap(), (&b"\n"[..], &b"WorldBegin"[..]));
+        assert_eq!(
+            word(b"WorldBegin\n").unwrap(),
+            (&b"\n"[..], &b"WorldBegin"[..])
+        );
     }
 }

@@ -214,9 +214,14 @@ mod tests {
         )
         .unwrap();
         assert_eq!(ds.len(), 7);
-        assert_eq!(ds[0], Directive::LookAt([0., 0., 5., 0., 0., 0., 0., 1., 0.]));
+        assert_eq!(
+            ds[0],
+            Directive::LookAt([0., 0., 5., 0., 0., 0., 0., 1., 0.])
+        );
         assert_eq!(ds[4], Directive::Translate([1.0, -0.5, 2.0]));
-        let Directive::Shape(shape) = &ds[5] else { panic!() };
+        let Directive::Shape(shape) = &ds[5] else {
+            panic!()
+        };
         assert_eq!(shape.kind, "sphere");
         assert_eq!(shape.params[0].numbers(), &[2.0]);
     }
@@ -224,7 +229,10 @@ mod tests {
     #[test]
     fn errors_point_at_the_bad_token() {
         let e = parse_all("Shape \"sphere\"\n  \"float radius\" [ 1 2x ]").unwrap_err();
-        assert!(matches!(e.kind, ErrorKind::BadNumber(ref t) if t == "2x"), "{e}");
+        assert!(
+            matches!(e.kind, ErrorKind::BadNumber(ref t) if t == "2x"),
+            "{e}"
+        );
         assert_eq!(e.location.to_string(), "<test>:2:22");
     }
 
@@ -265,7 +273,9 @@ mod tests {
             .unwrap()
             .map(|d| {
                 let d = d.unwrap();
-                let Directive::Shape(e) = d.directive else { panic!() };
+                let Directive::Shape(e) = d.directive else {
+                    panic!()
+                };
                 e.params[0].numbers()[11]
             })
             .enumerate()

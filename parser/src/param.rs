@@ -235,9 +235,8 @@ fn bracketed_values(input: &[u8]) -> PResult<'_, Values> {
 }
 
 fn mixed_or_bad(input: &[u8], expected: &'static str) -> ErrorKind {
-    let looks_like_value = input[0] == b'"'
-        || lexer::starts_number(input)
-        || boolean(input).is_some();
+    let looks_like_value =
+        input[0] == b'"' || lexer::starts_number(input) || boolean(input).is_some();
     if looks_like_value {
         ErrorKind::MixedValues { expected }
     } else {
@@ -284,7 +283,9 @@ pub fn validate(ty: ParamType, name: &str, values: &mut Values) -> Result<(), Er
         (ParamType::String | ParamType::Texture, Values::Strings(_)) => Ok(()),
         (ParamType::String | ParamType::Texture, _) => Err(wrong_kind("string")),
         (ParamType::Spectrum, Values::Strings(s)) if s.len() == 1 => Ok(()),
-        (ParamType::Spectrum, Values::Strings(_)) => Err(wrong_kind("one named spectrum or file name, or λ/value")),
+        (ParamType::Spectrum, Values::Strings(_)) => {
+            Err(wrong_kind("one named spectrum or file name, or λ/value"))
+        }
         (ParamType::Spectrum, Values::Numbers(v)) => {
             if v.len() % 2 != 0 {
                 Err(ErrorKind::WrongValueCount {
@@ -299,7 +300,10 @@ pub fn validate(ty: ParamType, name: &str, values: &mut Values) -> Result<(), Er
         }
         (_, Values::Numbers(v)) => {
             if ty == ParamType::Integer {
-                if let Some(&bad) = v.iter().find(|x| x.fract() != 0.0 || x.abs() > i32::MAX as f64) {
+                if let Some(&bad) = v
+                    .iter()
+                    .find(|x| x.fract() != 0.0 || x.abs() > i32::MAX as f64)
+                {
                     return Err(ErrorKind::NonIntegerValue {
                         name: name.to_string(),
                         value: bad,
@@ -345,7 +349,8 @@ pub fn declaration_and_values(
     let name = name.to_string();
     let v3_type = is_v3.then(|| tyname.to_string());
     let (rest, mut values) = value_list(rest)?;
-    validate(ty, &name, &mut values).map_err(|kind| nom::Err::Failure(LexError::new(start, kind)))?;
+    validate(ty, &name, &mut values)
+        .map_err(|kind| nom::Err::Failure(LexError::new(start, kind)))?;
     Ok((rest, ty, name, values, v3_type))
 }
 
@@ -373,8 +378,14 @@ mod tests {
 
     #[test]
     fn bools_bare_or_quoted() {
-        assert_eq!(parse("\"bool b\" true").unwrap().2, Values::Bools(vec![true]));
-        assert_eq!(parse("\"bool b\" [ \"false\" ]").unwrap().2, Values::Bools(vec![false]));
+        assert_eq!(
+            parse("\"bool b\" true").unwrap().2,
+            Values::Bools(vec![true])
+        );
+        assert_eq!(
+            parse("\"bool b\" [ \"false\" ]").unwrap().2,
+            Values::Bools(vec![false])
+        );
         assert!(parse("\"bool b\" 1").is_err());
     }
 
@@ -382,14 +393,36 @@ mod tests {
     fn wrong_counts_and_kinds() {
         assert!(matches!(
             parse("\"point3 P\" [1 2 3 4]"),
-            Err(ErrorKind::WrongValueCount { count: 4, multiple: 3, .. })
+            Err(ErrorKind::WrongValueCount {
+                count: 4,
+                multiple: 3,
+                ..
+            })
         ));
-        assert!(matches!(parse("\"integer n\" 1.5"), Err(ErrorKind::NonIntegerValue { .. })));
-        assert!(matches!(parse("\"float x\" \"a\""), Err(ErrorKind::WrongValueKind { .. })));
-        assert!(matches!(parse("\"float x\" [1 \"a\"]"), Err(ErrorKind::MixedValues { .. })));
-        assert!(matches!(parse("\"floaty x\" 1"), Err(ErrorKind::UnknownParameterType { .. })));
-        assert!(matches!(parse("\"float\" 1"), Err(ErrorKind::MalformedDeclaration(_))));
-        assert!(matches!(parse("\"spectrum s\" [300 1 400]"), Err(ErrorKind::WrongValueCount { .. })));
+        assert!(matches!(
+            parse("\"integer n\" 1.5"),
+            Err(ErrorKind::NonIntegerValue { .. })
+        ));
+        assert!(matches!(
+            parse("\"float x\" \"a\""),
+            Err(ErrorKind::WrongValueKind { .. })
+        ));
+        assert!(matches!(
+            parse("\"float x\" [1 \"a\"]"),
+            Err(ErrorKind::MixedValues { .. })
+        ));
+        assert!(matches!(
+            parse("\"floaty x\" 1"),
+            Err(ErrorKind::UnknownParameterType { .. })
+        ));
+        assert!(matches!(
+            parse("\"float\" 1"),
+            Err(ErrorKind::MalformedDeclaration(_))
+        ));
+        assert!(matches!(
+            parse("\"spectrum s\" [300 1 400]"),
+            Err(ErrorKind::WrongValueCount { .. })
+        ));
     }
 
     #[test]

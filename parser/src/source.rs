@@ -28,9 +28,9 @@ pub fn decompressing_reader(
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("gz"));
     if gz {
-        Ok(Box::new(flate2::read::MultiGzDecoder::new(BufReader::with_capacity(
-            CHUNK, file,
-        ))))
+        Ok(Box::new(flate2::read::MultiGzDecoder::new(
+            BufReader::with_capacity(CHUNK, file),
+        )))
     } else {
         Ok(Box::new(file))
     }
@@ -54,7 +54,9 @@ impl Source {
                     path: file.path.display().to_string(),
                     message: e.to_string(),
                 },
-                location.cloned().unwrap_or_else(|| Location::new(file.clone(), 0)),
+                location
+                    .cloned()
+                    .unwrap_or_else(|| Location::new(file.clone(), 0)),
             )
         };
         let handle = std::fs::File::open(&file.path).map_err(cannot_read)?;
@@ -144,7 +146,8 @@ impl Source {
                                     directive,
                                     at(start),
                                     window.len() - rest.len(),
-                                    start.starts_with(b"TransformBegin") || start.starts_with(b"TransformEnd"),
+                                    start.starts_with(b"TransformBegin")
+                                        || start.starts_with(b"TransformEnd"),
                                 )
                             }
                         }
@@ -152,10 +155,9 @@ impl Source {
                         Err(nom::Err::Error(e) | nom::Err::Failure(e)) => {
                             Outcome::Error(e.kind, at(e.input))
                         }
-                        Err(nom::Err::Incomplete(_)) => Outcome::Error(
-                            ErrorKind::UnexpectedEof("more input"),
-                            at(&[]),
-                        ),
+                        Err(nom::Err::Incomplete(_)) => {
+                            Outcome::Error(ErrorKind::UnexpectedEof("more input"), at(&[]))
+                        }
                     }
                 }
             };
@@ -177,7 +179,10 @@ impl Source {
                     return Ok(Some((located, deprecated)));
                 }
                 Outcome::Error(kind, offset) => {
-                    return Err(ParseError::new(kind, Location::new(self.file.clone(), offset)))
+                    return Err(ParseError::new(
+                        kind,
+                        Location::new(self.file.clone(), offset),
+                    ))
                 }
             }
         }

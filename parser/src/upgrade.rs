@@ -75,10 +75,18 @@ pub fn upgrade(directive: &mut Directive, notes: &mut Vec<String>) {
             if e.kind == "environment" {
                 rename_kind(e, "spherical", "Camera", notes);
                 let like = e.params.first().cloned();
-                e.push_like(like.as_ref(), ParamType::String, "mapping", Values::Strings(vec!["equirectangular".into()]));
+                e.push_like(
+                    like.as_ref(),
+                    ParamType::String,
+                    "mapping",
+                    Values::Strings(vec!["equirectangular".into()]),
+                );
             }
             if e.kind == "realistic" && !e.take("simpleweighting").is_empty() {
-                notes.push("pbrt-v3 \"simpleweighting\" of the realistic camera dropped (not in pbrt-v4)".into());
+                notes.push(
+                    "pbrt-v3 \"simpleweighting\" of the realistic camera dropped (not in pbrt-v4)"
+                        .into(),
+                );
             }
         }
         Directive::Material(e) => material(e, notes),
@@ -133,11 +141,19 @@ pub fn upgrade(directive: &mut Directive, notes: &mut Vec<String>) {
     }
     // pbrt-v3 parameter type names.
     let params: Option<&mut Vec<Param>> = match directive {
-        Directive::Film(e) | Directive::Sampler(e) | Directive::Integrator(e)
-        | Directive::PixelFilter(e) | Directive::Camera(e) | Directive::Material(e)
-        | Directive::MakeNamedMaterial(e) | Directive::LightSource(e)
-        | Directive::AreaLightSource(e) | Directive::Shape(e) | Directive::MakeNamedMedium(e)
-        | Directive::Accelerator(e) | Directive::Attribute(e) => Some(&mut e.params),
+        Directive::Film(e)
+        | Directive::Sampler(e)
+        | Directive::Integrator(e)
+        | Directive::PixelFilter(e)
+        | Directive::Camera(e)
+        | Directive::Material(e)
+        | Directive::MakeNamedMaterial(e)
+        | Directive::LightSource(e)
+        | Directive::AreaLightSource(e)
+        | Directive::Shape(e)
+        | Directive::MakeNamedMedium(e)
+        | Directive::Accelerator(e)
+        | Directive::Attribute(e) => Some(&mut e.params),
         Directive::Texture { class, .. } => Some(&mut class.params),
         _ => None,
     };
@@ -150,20 +166,27 @@ pub fn upgrade(directive: &mut Directive, notes: &mut Vec<String>) {
         }
     }
     if let Directive::WorldEnd = directive {
-        notes.push("pbrt-v3 WorldEnd ignored (pbrt-v4 ends the world block at the end of the file)".into());
+        notes.push(
+            "pbrt-v3 WorldEnd ignored (pbrt-v4 ends the world block at the end of the file)".into(),
+        );
     }
 }
 
 fn rename_kind(e: &mut Entity, new: &str, directive: &str, notes: &mut Vec<String>) {
     if !new.is_empty() && e.kind != new {
-        notes.push(format!("pbrt-v3 {directive} \"{}\" read as \"{new}\"", e.kind));
+        notes.push(format!(
+            "pbrt-v3 {directive} \"{}\" read as \"{new}\"",
+            e.kind
+        ));
         e.kind = new.to_string();
     }
 }
 
 fn rename_param(e: &mut Entity, from: &str, to: &str, what: &str, notes: &mut Vec<String>) {
     if e.rename(from, to) {
-        notes.push(format!("pbrt-v3 {what} parameter \"{from}\" read as \"{to}\""));
+        notes.push(format!(
+            "pbrt-v3 {what} parameter \"{from}\" read as \"{to}\""
+        ));
     }
 }
 
@@ -174,12 +197,22 @@ fn film(e: &mut Entity, notes: &mut Vec<String>) {
     for p in e.take("maxsampleluminance") {
         notes.push("pbrt-v3 Film \"maxsampleluminance\" read as \"maxcomponentvalue\"".into());
         let v = p.numbers().first().copied().unwrap_or(f64::INFINITY);
-        e.push_like(Some(&p), ParamType::Float, "maxcomponentvalue", Values::Numbers(vec![v]));
+        e.push_like(
+            Some(&p),
+            ParamType::Float,
+            "maxcomponentvalue",
+            Values::Numbers(vec![v]),
+        );
     }
     for p in e.take("scale") {
         notes.push("pbrt-v3 Film \"scale\" read as \"iso\" = 100 × scale".into());
         let v = p.numbers().first().copied().unwrap_or(1.0);
-        e.push_like(Some(&p), ParamType::Float, "iso", Values::Numbers(vec![100.0 * v]));
+        e.push_like(
+            Some(&p),
+            ParamType::Float,
+            "iso",
+            Values::Numbers(vec![100.0 * v]),
+        );
     }
 }
 
@@ -193,7 +226,12 @@ fn integrator(e: &mut Entity, notes: &mut Vec<String>) {
             Some("spatial") | None => "bvh".to_string(),
             Some(other) => other.to_string(),
         };
-        e.push_like(Some(&p), ParamType::String, "lightsampler", Values::Strings(vec![v]));
+        e.push_like(
+            Some(&p),
+            ParamType::String,
+            "lightsampler",
+            Values::Strings(vec![v]),
+        );
     }
     if e.kind == "sppm" {
         e.take("imagewritefrequency");
@@ -205,7 +243,12 @@ fn integrator(e: &mut Entity, notes: &mut Vec<String>) {
         rename_kind(e, "path", "Integrator", notes);
         e.take("strategy");
         e.take("maxdepth");
-        e.push_like(None, ParamType::Integer, "maxdepth", Values::Numbers(vec![1.0]));
+        e.push_like(
+            None,
+            ParamType::Integer,
+            "maxdepth",
+            Values::Numbers(vec![1.0]),
+        );
     }
 }
 
@@ -214,16 +257,29 @@ fn filter(e: &mut Entity, notes: &mut Vec<String>) {
     rename_param(e, "ywidth", "yradius", "PixelFilter", notes);
     if e.kind == "gaussian" {
         for p in e.take("alpha") {
-            notes.push("pbrt-v3 gaussian filter \"alpha\" read as \"sigma\" = 1/sqrt(2 alpha)".into());
+            notes.push(
+                "pbrt-v3 gaussian filter \"alpha\" read as \"sigma\" = 1/sqrt(2 alpha)".into(),
+            );
             let alpha = p.numbers().first().copied().unwrap_or(2.0);
-            e.push_like(Some(&p), ParamType::Float, "sigma", Values::Numbers(vec![1.0 / (2.0 * alpha).sqrt()]));
+            e.push_like(
+                Some(&p),
+                ParamType::Float,
+                "sigma",
+                Values::Numbers(vec![1.0 / (2.0 * alpha).sqrt()]),
+            );
         }
     }
 }
 
 /// Drops an `rgb` parameter that pbrt-v4 has no use for; notes it when its
 /// value was not the one that makes it irrelevant.
-fn drop_constant(e: &mut Entity, name: &str, irrelevant: f64, material: &str, notes: &mut Vec<String>) -> bool {
+fn drop_constant(
+    e: &mut Entity,
+    name: &str,
+    irrelevant: f64,
+    material: &str,
+    notes: &mut Vec<String>,
+) -> bool {
     let taken = e.take(name);
     let matched = taken.iter().any(|p| grey(p) == Some(irrelevant));
     if !taken.is_empty() && !matched {
@@ -255,7 +311,10 @@ fn material(e: &mut Entity, notes: &mut Vec<String>) {
                 drop_constant(e, "Kt", 0.0, new, notes);
                 for p in e.take("opacity") {
                     if grey(&p) != Some(1.0) {
-                        notes.push("pbrt-v3 uber \"opacity\" is not supported in pbrt-v4 and was dropped".into());
+                        notes.push(
+                            "pbrt-v3 uber \"opacity\" is not supported in pbrt-v4 and was dropped"
+                                .into(),
+                        );
                     }
                 }
             }
@@ -283,10 +342,17 @@ fn material(e: &mut Entity, notes: &mut Vec<String>) {
         }
         "mirror" => {
             let kr = e.take("Kr");
-            let reflectance = kr.first().map_or(Values::Numbers(vec![0.9, 0.9, 0.9]), |p| p.values.clone());
+            let reflectance = kr
+                .first()
+                .map_or(Values::Numbers(vec![0.9, 0.9, 0.9]), |p| p.values.clone());
             let ty = kr.first().map_or(ParamType::Rgb, |p| p.ty);
             e.push_like(kr.first(), ty, "reflectance", reflectance);
-            e.push_like(None, ParamType::Float, "roughness", Values::Numbers(vec![0.0]));
+            e.push_like(
+                None,
+                ParamType::Float,
+                "roughness",
+                Values::Numbers(vec![0.0]),
+            );
             rename_kind(e, "conductor", "Material", notes);
         }
         "matte" => {
@@ -321,14 +387,24 @@ fn material(e: &mut Entity, notes: &mut Vec<String>) {
                     b.strings().first().cloned().unwrap_or_default(),
                     a.strings().first().cloned().unwrap_or_default(),
                 ];
-                e.push_like(Some(a), ParamType::String, "materials", Values::Strings(names));
+                e.push_like(
+                    Some(a),
+                    ParamType::String,
+                    "materials",
+                    Values::Strings(names),
+                );
             }
             let amount = e.take("amount");
             for p in amount {
                 match (p.ty, p.numbers()) {
                     (ParamType::Rgb, [r, g, b]) => {
                         notes.push("pbrt-v3 rgb mix \"amount\" read as its average".into());
-                        e.push_like(Some(&p), ParamType::Float, "amount", Values::Numbers(vec![(r + g + b) / 3.0]));
+                        e.push_like(
+                            Some(&p),
+                            ParamType::Float,
+                            "amount",
+                            Values::Numbers(vec![(r + g + b) / 3.0]),
+                        );
                     }
                     _ => e.params.push(p),
                 }
@@ -353,7 +429,12 @@ fn texture(value_type: &str, class: &mut Entity, notes: &mut Vec<String>) {
                     let p = class.take(n).remove(0);
                     let other = if n == "tex1" { "tex2" } else { "tex1" };
                     rename_param(class, other, "tex", "scale texture", notes);
-                    class.push_like(Some(&p), ParamType::Float, "scale", Values::Numbers(vec![grey(&p).unwrap_or(1.0)]));
+                    class.push_like(
+                        Some(&p),
+                        ParamType::Float,
+                        "scale",
+                        Values::Numbers(vec![grey(&p).unwrap_or(1.0)]),
+                    );
                 } else {
                     rename_param(class, "tex1", "tex", "scale texture", notes);
                     rename_param(class, "tex2", "scale", "scale texture", notes);
@@ -362,9 +443,18 @@ fn texture(value_type: &str, class: &mut Entity, notes: &mut Vec<String>) {
         }
         "imagemap" | "ptex" => {
             for p in class.take("trilinear") {
-                let filter = if p.bools().first() == Some(&true) { "trilinear" } else { "bilinear" };
+                let filter = if p.bools().first() == Some(&true) {
+                    "trilinear"
+                } else {
+                    "bilinear"
+                };
                 notes.push("pbrt-v3 imagemap \"trilinear\" read as \"filter\"".into());
-                class.push_like(Some(&p), ParamType::String, "filter", Values::Strings(vec![filter.into()]));
+                class.push_like(
+                    Some(&p),
+                    ParamType::String,
+                    "filter",
+                    Values::Strings(vec![filter.into()]),
+                );
             }
             for p in class.take("gamma") {
                 let encoding = match (p.ty, p.numbers(), p.bools()) {
@@ -373,7 +463,12 @@ fn texture(value_type: &str, class: &mut Entity, notes: &mut Vec<String>) {
                     _ => "linear".into(),
                 };
                 notes.push("pbrt-v3 imagemap \"gamma\" read as \"encoding\"".into());
-                class.push_like(Some(&p), ParamType::String, "encoding", Values::Strings(vec![encoding]));
+                class.push_like(
+                    Some(&p),
+                    ParamType::String,
+                    "encoding",
+                    Values::Strings(vec![encoding]),
+                );
             }
         }
         _ => {}
@@ -387,7 +482,10 @@ fn light_scale(e: &mut Entity, notes: &mut Vec<String>) -> f64 {
     for p in scales {
         match p.ty {
             ParamType::Rgb => {
-                notes.push("pbrt-v3 rgb light \"scale\" read as a float (pbrt-v4 scales are floats)".into());
+                notes.push(
+                    "pbrt-v3 rgb light \"scale\" read as a float (pbrt-v4 scales are floats)"
+                        .into(),
+                );
                 let [r, g, b] = [0, 1, 2].map(|i| p.numbers().get(i).copied().unwrap_or(1.0));
                 factor *= (r + g + b) / 3.0;
             }
@@ -400,7 +498,11 @@ fn light_scale(e: &mut Entity, notes: &mut Vec<String>) -> f64 {
 /// A pbrt-v3 two-value blackbody (temperature, scale) becomes one value and
 /// a scale.
 fn blackbody(e: &mut Entity, name: &str, mut scale: f64, notes: &mut Vec<String>) {
-    for p in e.params.iter_mut().filter(|p| p.name == name && p.ty == ParamType::Blackbody) {
+    for p in e
+        .params
+        .iter_mut()
+        .filter(|p| p.name == name && p.ty == ParamType::Blackbody)
+    {
         if let Values::Numbers(v) = &mut p.values {
             if v.len() == 2 {
                 notes.push("pbrt-v3 two-value blackbody (temperature, scale) read as temperature and \"scale\"".into());
@@ -411,15 +513,25 @@ fn blackbody(e: &mut Entity, name: &str, mut scale: f64, notes: &mut Vec<String>
     }
     if scale != 1.0 {
         let existing = e.take("scale");
-        let base = existing.first().and_then(|p| p.numbers().first().copied()).unwrap_or(1.0);
-        e.push_like(existing.first(), ParamType::Float, "scale", Values::Numbers(vec![base * scale]));
+        let base = existing
+            .first()
+            .and_then(|p| p.numbers().first().copied())
+            .unwrap_or(1.0);
+        e.push_like(
+            existing.first(),
+            ParamType::Float,
+            "scale",
+            Values::Numbers(vec![base * scale]),
+        );
     }
 }
 
 fn light(e: &mut Entity, notes: &mut Vec<String>) {
     let mut scale = light_scale(e, notes);
     if !e.take("samples").is_empty() || !e.take("nsamples").is_empty() {
-        notes.push("pbrt-v3 light \"nsamples\" dropped (pbrt-v4 has no per-light sample counts)".into());
+        notes.push(
+            "pbrt-v3 light \"nsamples\" dropped (pbrt-v4 has no per-light sample counts)".into(),
+        );
     }
     if e.has("mapname") {
         let radiance = if e.kind == "projection" { "I" } else { "L" };
@@ -445,9 +557,15 @@ fn shape(e: &mut Entity, notes: &mut Vec<String>) {
         if !e.take("discarddegenerateUVs").is_empty() {
             notes.push("pbrt-v3 \"discarddegenerateUVs\" dropped (not in pbrt-v4)".into());
         }
-        e.params.retain(|p| !(p.name == "shadowalpha" && p.ty == ParamType::Texture));
+        e.params
+            .retain(|p| !(p.name == "shadowalpha" && p.ty == ParamType::Texture));
     }
-    if e.kind == "trianglemesh" && !e.params.iter().any(|p| p.name == "uv" && p.ty == ParamType::Point2) {
+    if e.kind == "trianglemesh"
+        && !e
+            .params
+            .iter()
+            .any(|p| p.name == "uv" && p.ty == ParamType::Point2)
+    {
         let st: Vec<Param> = e.take("st");
         let uv: Vec<Param> = e.take("uv");
         if let Some(p) = st.iter().chain(uv.iter()).next() {
@@ -465,7 +583,11 @@ mod tests {
     fn upgraded(text: &str) -> (Vec<Directive>, Vec<String>) {
         let mut parser = Parser::from_text("<v3>", text);
         let ds = parser.by_ref().map(|d| d.unwrap().directive).collect();
-        let notes = parser.take_warnings().into_iter().map(|w| w.message).collect();
+        let notes = parser
+            .take_warnings()
+            .into_iter()
+            .map(|w| w.message)
+            .collect();
         (ds, notes)
     }
 
@@ -475,8 +597,14 @@ mod tests {
             "Material \"matte\" \"color Kd\" [.5 .5 .5]\nMaterial \"plastic\" \"rgb Kd\" [1 0 0] \"rgb Ks\" [0 0 0]\n\
              Material \"matte\" \"color Kd\" [.2 .2 .2]",
         );
-        assert_eq!(ds[0].to_string(), "Material \"diffuse\"\n    \"rgb reflectance\" [ 0.5 0.5 0.5 ]");
-        assert_eq!(ds[1].to_string(), "Material \"diffuse\"\n    \"rgb reflectance\" [ 1 0 0 ]");
+        assert_eq!(
+            ds[0].to_string(),
+            "Material \"diffuse\"\n    \"rgb reflectance\" [ 0.5 0.5 0.5 ]"
+        );
+        assert_eq!(
+            ds[1].to_string(),
+            "Material \"diffuse\"\n    \"rgb reflectance\" [ 1 0 0 ]"
+        );
         // Each mapping is noted once.
         assert_eq!(notes.iter().filter(|n| n.contains("\"color\"")).count(), 1);
     }
@@ -489,9 +617,15 @@ mod tests {
              LightSource \"infinite\" \"string mapname\" \"sky.exr\" \"color L\" [2 2 2]\n\
              AreaLightSource \"area\" \"blackbody L\" [6500 3]\nWorldEnd",
         );
-        assert_eq!(ds[0].to_string(), "Film \"rgb\"\n    \"float maxcomponentvalue\" [ 10 ]");
+        assert_eq!(
+            ds[0].to_string(),
+            "Film \"rgb\"\n    \"float maxcomponentvalue\" [ 10 ]"
+        );
         assert_eq!(ds[1].to_string(), "Sampler \"paddedsobol\"");
-        assert_eq!(ds[2].to_string(), "PixelFilter \"gaussian\"\n    \"float xradius\" [ 2 ]");
+        assert_eq!(
+            ds[2].to_string(),
+            "PixelFilter \"gaussian\"\n    \"float xradius\" [ 2 ]"
+        );
         assert_eq!(
             ds[4].to_string(),
             "LightSource \"infinite\"\n    \"string filename\" [ \"sky.exr\" ]\n    \"float scale\" [ 2 ]"

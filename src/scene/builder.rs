@@ -13,7 +13,9 @@ use super::schema::{self, Category};
 use crate::error::{scene_error, Error, Result};
 use crate::math::Transform;
 use glam::DVec3;
-use pbrt_parser::{ActiveTransform, Directive, Entity as ParsedEntity, Located, Location, Param, Parser, Warning};
+use pbrt_parser::{
+    ActiveTransform, Directive, Entity as ParsedEntity, Located, Location, Param, Parser, Warning,
+};
 use std::collections::{BTreeMap, HashMap, HashSet};
 use std::path::{Path, PathBuf};
 
@@ -30,7 +32,7 @@ struct GraphicsState {
     area_light: Option<(ParsedEntity, Location)>,
     inside_medium: String,
     outside_medium: String,
-    color_space: String,
+    color_space: ColorSpaceName,
     attributes: [Vec<Param>; 5],
 }
 
@@ -45,7 +47,7 @@ impl Default for GraphicsState {
             area_light: None,
             inside_medium: String::new(),
             outside_medium: String::new(),
-            color_space: "srgb".to_string(),
+            color_space: ColorSpaceName::Srgb,
             attributes: Default::default(),
         }
     }
@@ -74,18 +76,20 @@ pub struct SceneBuilder {
     current_object: Option<Object>,
     object_names: HashSet<String>,
     /// Instances by object name (resolved at the end, as pbrt does).
-    pending_instances: Vec<(String, AnimatedTransform, Location)>,
+    pending_instances: Vec<(String, TransformId, Location)>,
     texture_names: HashSet<(TextureValue, String)>,
     warnings: Vec<Warning>,
     scene: SceneDescription,
     world_begun: bool,
+    /// The CTM interned last, to share it with the next shape.
+    last_transform: Option<(AnimatedTransform, TransformId)>,
 }
 
 fn default_entity(kind: &str) -> Entity {
     Entity {
         kind: kind.to_string(),
         params: ParamSet::default(),
-        color_space: "srgb".to_string(),
+        color_space: ColorSpaceName::Srgb,
         location: Loc(Location::nowhere()),
     }
 }
@@ -111,9 +115,11 @@ impl SceneBuilder {
             texture_names: HashSet::new(),
             warnings: Vec::new(),
             world_begun: false,
+            last_transform: None,
             scene: SceneDescription {
                 base_directory,
                 options: Options::default(),
+                transforms: Vec::new(),
                 camera: Camera {
                     entity: default_entity("perspective"),
                     camera_from_world: static_identity,
@@ -189,6 +195,20 @@ impl SceneBuilder {
         }
     }
 
+    /// The CTM as a shared transform.
+    fn current_transform(&mut self) -> TransformId {
+        let t = self.animated_ctm();
+        if let Some((last, id)) = self.last_transform {
+            if last == t {
+                return id;
+            }
+        }
+        let id = TransformId(self.scene.transforms.len() as u32);
+        self.scene.transforms.push(t);
+        self.last_transform = Some((t, id));
+        id
+    }
+
     /// An entity from a parsed one, checked against pbrt-v4's parameters.
     fn entity(
         &self,
@@ -204,7 +224,7 @@ impl SceneBuilder {
         Ok(Entity {
             kind: kind.to_string(),
             params,
-            color_space: self.state.color_space.clone(),
+            color_space: self.state.color_space,
             location: Loc(location.clone()),
         })
     }
@@ -221,7 +241,10 @@ impl SceneBuilder {
 
     /// Applies one directive.
     pub fn apply(&mut self, located: Located) -> Result<()> {
-        let Located { directive, location } = located;
+        let Located {
+            directive,
+            location,
+        } = located;
         let loc = &location;
         let keyword = directive.keyword();
         use Directive as D;
@@ -232,10 +255,12 @@ impl SceneBuilder {
                 Some(t) => self.concat(t),
                 None => return scene_error("Scale by zero makes the transform singular", loc),
             },
-            D::Rotate([angle, x, y, z]) => match Transform::rotate(angle.to_radians(), DVec3::new(x, y, z)) {
-                Some(t) => self.concat(t),
-                None => return scene_error("Rotate needs a non-zero axis", loc),
-            },
+            D::Rotate([angle, x, y, z]) => {
+                match Transform::rotate(angle.to_radians(), DVec3::new(x, y, z)) {
+                    Some(t) => self.concat(t),
+                    None => return scene_error("Rotate needs a non-zero axis", loc),
+                }
+            }
             D::LookAt(v) => {
                 let [ex, ey, ez, lx, ly, lz, ux, uy, uz] = v;
                 match Transform::look_at(DVec3::new(ex, ey, ez), DVec3::new(lx, ly, lz), DVec3::new(ux, uy, uz)) {
@@ -268,7 +293,10 @@ impl SceneBuilder {
             D::TransformTimes(start, end) => {
                 self.require(Block::Options, keyword, loc)?;
                 if end < start {
-                    return scene_error("TransformTimes: the end time is before the start time", loc);
+                    return scene_error(
+                        "TransformTimes: the end time is before the start time",
+                        loc,
+                    );
                 }
                 self.transform_times = (start, end);
             }
@@ -277,17 +305,23 @@ impl SceneBuilder {
             }
             D::CoordSysTransform(name) => match self.named_coordinate_systems.get(&name) {
                 Some(ctm) => self.state.ctm = *ctm,
-                None => self.warn(format!("couldn't find named coordinate system \"{name}\""), loc),
+                None => self.warn(
+                    format!("couldn't find named coordinate system \"{name}\""),
+                    loc,
+                ),
             },
             D::ColorSpace(name) => {
-                const KNOWN: [&str; 4] = ["srgb", "dci-p3", "rec2020", "aces2065-1"];
-                if !KNOWN.contains(&name.as_str()) {
+                let Some(space) = ColorSpaceName::from_name(&name) else {
+                    let known: Vec<&str> = ColorSpaceName::ALL.iter().map(|(n, _)| *n).collect();
                     return scene_error(
-                        format!("unknown colour space \"{name}\" (expected one of {})", KNOWN.join(", ")),
+                        format!(
+                            "unknown colour space \"{name}\" (expected one of {})",
+                            known.join(", ")
+                        ),
                         loc,
                     );
-                }
-                self.state.color_space = name;
+                };
+                self.state.color_space = space;
             }
             D::Option(param) => self.option(param)?,
             D::Camera(e) => {
@@ -295,14 +329,19 @@ impl SceneBuilder {
                 let entity = self.entity(Category::Camera, &e.kind, e.params, None, loc)?;
                 let camera_from_world = self.animated_ctm();
                 let inverse = [self.state.ctm[0].inverse(), self.state.ctm[1].inverse()];
-                self.named_coordinate_systems.insert("camera".to_string(), inverse);
+                self.named_coordinate_systems
+                    .insert("camera".to_string(), inverse);
                 self.scene.camera = Camera {
                     entity,
                     camera_from_world,
                     medium: self.state.outside_medium.clone(),
                 };
             }
-            D::Film(e) | D::Sampler(e) | D::PixelFilter(e) | D::Integrator(e) | D::Accelerator(e) => {
+            D::Film(e)
+            | D::Sampler(e)
+            | D::PixelFilter(e)
+            | D::Integrator(e)
+            | D::Accelerator(e) => {
                 self.require(Block::Options, keyword, loc)?;
                 let category = match keyword {
                     "Film" => Category::Film,
@@ -328,7 +367,8 @@ impl SceneBuilder {
             D::WorldEnd => {}
             D::AttributeBegin => {
                 self.require(Block::World, keyword, loc)?;
-                self.stack.push((self.state.clone(), Nesting::Attribute, location.clone()));
+                self.stack
+                    .push((self.state.clone(), Nesting::Attribute, location.clone()));
             }
             D::AttributeEnd => {
                 self.require(Block::World, keyword, loc)?;
@@ -387,22 +427,27 @@ impl SceneBuilder {
                 self.require(Block::World, keyword, loc)?;
                 self.state.material = MaterialRef::Named(name);
             }
-            D::Texture { name, value_type, class } => {
+            D::Texture {
+                name,
+                value_type,
+                class,
+            } => {
                 self.require(Block::World, keyword, loc)?;
                 let value = match value_type.as_str() {
                     "float" => TextureValue::Float,
                     "spectrum" => TextureValue::Spectrum,
-                    other => {
-                        return scene_error(
-                            format!("texture type \"{other}\" unknown: expected \"float\" or \"spectrum\""),
-                            loc,
-                        )
-                    }
+                    other => return scene_error(
+                        format!(
+                            "texture type \"{other}\" unknown: expected \"float\" or \"spectrum\""
+                        ),
+                        loc,
+                    ),
                 };
                 if !self.texture_names.insert((value, name.clone())) {
                     return scene_error(format!("texture \"{name}\" redefined"), loc);
                 }
-                let entity = self.entity(Category::Texture, &class.kind, class.params, Some(4), loc)?;
+                let entity =
+                    self.entity(Category::Texture, &class.kind, class.params, Some(4), loc)?;
                 self.scene.textures.push(Texture {
                     name,
                     value,
@@ -416,7 +461,10 @@ impl SceneBuilder {
                     return scene_error(format!("named medium \"{name}\" redefined"), loc);
                 }
                 let Some(kind) = e.param("type").and_then(|p| p.strings().first().cloned()) else {
-                    return scene_error(format!("medium \"{name}\": \"string type\" not provided"), loc);
+                    return scene_error(
+                        format!("medium \"{name}\": \"string type\" not provided"),
+                        loc,
+                    );
                 };
                 let entity = self.entity(Category::Medium, &kind, e.params, Some(3), loc)?;
                 self.scene.media.push(Medium {
@@ -433,7 +481,10 @@ impl SceneBuilder {
                 self.require(Block::World, keyword, loc)?;
                 let entity = self.entity(Category::Light, &e.kind, e.params, Some(1), loc)?;
                 if self.animated_ctm().is_animated() {
-                    self.warn("animated lights aren't supported; using the start transform", loc);
+                    self.warn(
+                        "animated lights aren't supported; using the start transform",
+                        loc,
+                    );
                 }
                 self.scene.lights.push(Light {
                     entity,
@@ -454,12 +505,16 @@ impl SceneBuilder {
             D::ObjectBegin(name) => {
                 self.require(Block::World, keyword, loc)?;
                 if self.current_object.is_some() {
-                    return scene_error("ObjectBegin inside an object definition (objects cannot nest)", loc);
+                    return scene_error(
+                        "ObjectBegin inside an object definition (objects cannot nest)",
+                        loc,
+                    );
                 }
                 if !self.object_names.insert(name.clone()) {
                     return scene_error(format!("object \"{name}\" redefined"), loc);
                 }
-                self.stack.push((self.state.clone(), Nesting::Object, location.clone()));
+                self.stack
+                    .push((self.state.clone(), Nesting::Object, location.clone()));
                 self.current_object = Some(Object {
                     name,
                     shapes: Vec::new(),
@@ -486,14 +541,19 @@ impl SceneBuilder {
             D::ObjectInstance(name) => {
                 self.require(Block::World, keyword, loc)?;
                 if self.current_object.is_some() {
-                    return scene_error("ObjectInstance inside an object definition (instances cannot nest)", loc);
+                    return scene_error(
+                        "ObjectInstance inside an object definition (instances cannot nest)",
+                        loc,
+                    );
                 }
-                let t = self.animated_ctm();
+                let t = self.current_transform();
                 self.pending_instances.push((name, t, location.clone()));
             }
             D::Include(_) | D::Import(_) => {
                 return scene_error(
-                    format!("{keyword} reached the scene builder: the parser should have followed it"),
+                    format!(
+                        "{keyword} reached the scene builder: the parser should have followed it"
+                    ),
                     loc,
                 )
             }
@@ -511,7 +571,11 @@ impl SceneBuilder {
             .filter(|c| *c != '-' && *c != '_')
             .collect();
         let set = ParamSet::new(vec![param], &[]);
-        let name = set.iter().next().map(|p| p.name.clone()).unwrap_or_default();
+        let name = set
+            .iter()
+            .next()
+            .map(|p| p.name.clone())
+            .unwrap_or_default();
         let o = &mut self.scene.options;
         let expect = |ty: T| -> Result<()> { set.find(&name, &[ty]).map(|_| ()) };
         match key.as_str() {
@@ -551,17 +615,29 @@ impl SceneBuilder {
         // Written by the Houdini exporter; pbrt-v4 has no such parameter.
         if let Some(p) = e.params.iter().find(|p| p.name == "emissionfilename") {
             let at = p.location.clone();
-            self.warn("\"emissionfilename\" is not a pbrt-v4 shape parameter; ignored", &at);
+            self.warn(
+                "\"emissionfilename\" is not a pbrt-v4 shape parameter; ignored",
+                &at,
+            );
             e.params.retain(|p| p.name != "emissionfilename");
         }
         let entity = self.entity(Category::Shape, &e.kind, e.params, Some(0), loc)?;
-        let world_from_object = self.animated_ctm();
+        let world_from_object = self.current_transform();
         let mut area_light = None;
         if let Some((light, light_loc)) = &self.state.area_light {
             if self.current_object.is_some() {
-                self.warn("area lights are not supported with object instancing; the shape does not emit", loc);
+                self.warn(
+                    "area lights are not supported with object instancing; the shape does not emit",
+                    loc,
+                );
             } else {
-                let light = self.entity(Category::AreaLight, &light.kind, light.params.clone(), Some(1), light_loc)?;
+                let light = self.entity(
+                    Category::AreaLight,
+                    &light.kind,
+                    light.params.clone(),
+                    Some(1),
+                    light_loc,
+                )?;
                 self.scene.area_lights.push(light);
                 area_light = Some(self.scene.area_lights.len() - 1);
             }
@@ -586,12 +662,18 @@ impl SceneBuilder {
     /// whole file was read (references to named things).
     pub fn finish(mut self, end: &Location) -> Result<(SceneDescription, Vec<Warning>)> {
         if let Some(object) = &self.current_object {
-            return scene_error(format!("ObjectBegin \"{}\" is never closed", object.name), &object.location.0);
+            return scene_error(
+                format!("ObjectBegin \"{}\" is never closed", object.name),
+                &object.location.0,
+            );
         }
         // pbrt-v4 rejects this; the scene is unambiguous, so (like pbrt-v3)
         // rpbrt only warns.
         for (_, _, begin) in std::mem::take(&mut self.stack) {
-            self.warn("AttributeBegin is never closed (missing AttributeEnd)", &begin);
+            self.warn(
+                "AttributeBegin is never closed (missing AttributeEnd)",
+                &begin,
+            );
         }
         if !self.world_begun {
             return scene_error("end of file before WorldBegin", end);
@@ -605,7 +687,10 @@ impl SceneBuilder {
             .collect();
         for (name, t, loc) in std::mem::take(&mut self.pending_instances) {
             let Some(&object) = index.get(name.as_str()) else {
-                return scene_error(format!("ObjectInstance: object \"{name}\" is not defined"), &loc);
+                return scene_error(
+                    format!("ObjectInstance: object \"{name}\" is not defined"),
+                    &loc,
+                );
             };
             self.scene.instances.push(Instance {
                 object,
@@ -622,7 +707,10 @@ impl SceneBuilder {
         let media: HashSet<&str> = s.media.iter().map(|m| m.name.as_str()).collect();
         let medium_ok = |name: &str| name.is_empty() || media.contains(name);
         let textures: HashSet<&str> = s.textures.iter().map(|t| t.name.as_str()).collect();
-        let all_shapes = s.shapes.iter().chain(s.objects.iter().flat_map(|o| o.shapes.iter()));
+        let all_shapes = s
+            .shapes
+            .iter()
+            .chain(s.objects.iter().flat_map(|o| o.shapes.iter()));
         for shape in all_shapes {
             let loc = &shape.entity.location.0;
             if let MaterialRef::Named(name) = &shape.material {
@@ -644,7 +732,10 @@ impl SceneBuilder {
         }
         for light in &s.lights {
             if !medium_ok(&light.medium) {
-                return scene_error(format!("light medium \"{}\" is not defined", light.medium), &light.entity.location.0);
+                return scene_error(
+                    format!("light medium \"{}\" is not defined", light.medium),
+                    &light.entity.location.0,
+                );
             }
         }
         // Texture parameters must name a texture.
@@ -660,7 +751,10 @@ impl SceneBuilder {
                     for name in p.strings() {
                         if !textures.contains(name.as_str()) {
                             return scene_error(
-                                format!("\"texture {}\": texture \"{name}\" is not defined", p.name),
+                                format!(
+                                    "\"texture {}\": texture \"{name}\" is not defined",
+                                    p.name
+                                ),
                                 &p.location,
                             );
                         }
@@ -671,7 +765,8 @@ impl SceneBuilder {
         // Mix materials name other materials.
         for entity in s.materials.iter().chain(s.named_materials.values()) {
             if entity.kind == "mix" {
-                if let Some(pbrt_parser::Values::Strings(names)) = entity.params.values("materials") {
+                if let Some(pbrt_parser::Values::Strings(names)) = entity.params.values("materials")
+                {
                     for name in names {
                         if !s.named_materials.contains_key(name) {
                             return scene_error(

@@ -33,9 +33,37 @@ pub struct Entity {
     pub kind: String,
     pub params: ParamSet,
     /// The colour space in force where the entity was declared.
-    pub color_space: String,
+    pub color_space: ColorSpaceName,
     pub location: Loc,
 }
+
+/// The RGB colour spaces pbrt-v4 names (`ColorSpace`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Default)]
+pub enum ColorSpaceName {
+    #[default]
+    Srgb,
+    DciP3,
+    Rec2020,
+    Aces2065_1,
+}
+
+impl ColorSpaceName {
+    pub const ALL: [(&'static str, ColorSpaceName); 4] = [
+        ("srgb", ColorSpaceName::Srgb),
+        ("dci-p3", ColorSpaceName::DciP3),
+        ("rec2020", ColorSpaceName::Rec2020),
+        ("aces2065-1", ColorSpaceName::Aces2065_1),
+    ];
+
+    pub fn from_name(name: &str) -> Option<Self> {
+        Self::ALL.iter().find(|(n, _)| *n == name).map(|(_, c)| *c)
+    }
+}
+
+/// Index into [`SceneDescription::transforms`]: shapes written under one
+/// transform share it (a hair file has one transform for a million curves).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TransformId(pub u32);
 
 /// A time-varying transform (`ActiveTransform`/`TransformTimes`); `end` is
 /// `None` when it does not vary.
@@ -74,7 +102,7 @@ pub enum MaterialRef {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Shape {
     pub entity: Entity,
-    pub world_from_object: AnimatedTransform,
+    pub world_from_object: TransformId,
     pub reverse_orientation: bool,
     pub material: MaterialRef,
     /// Index into [`SceneDescription::area_lights`].
@@ -126,7 +154,7 @@ pub struct Object {
 pub struct Instance {
     /// Index into [`SceneDescription::objects`].
     pub object: usize,
-    pub world_from_instance: AnimatedTransform,
+    pub world_from_instance: TransformId,
     pub location: Loc,
 }
 
@@ -152,6 +180,8 @@ pub struct SceneDescription {
     /// Directory of the main scene file (relative file names resolve here).
     pub base_directory: PathBuf,
     pub options: Options,
+    /// Transforms of shapes and instances, shared.
+    pub transforms: Vec<AnimatedTransform>,
     pub camera: Camera,
     pub film: Entity,
     pub sampler: Entity,
@@ -173,6 +203,10 @@ pub struct SceneDescription {
 }
 
 impl SceneDescription {
+    pub fn transform(&self, id: TransformId) -> &AnimatedTransform {
+        &self.transforms[id.0 as usize]
+    }
+
     /// Shape counts by type, over top-level shapes and object definitions.
     pub fn shape_counts(&self) -> BTreeMap<&str, usize> {
         let mut counts = BTreeMap::new();

@@ -16,9 +16,14 @@ use std::cell::Cell;
 #[derive(Clone, Debug, Default)]
 pub struct ParamSet {
     params: Vec<Param>,
-    /// Parameters that came from `Attribute` (never reported unused).
-    from_attributes: Vec<bool>,
-    used: Vec<Cell<bool>>,
+    /// How many of `params` are the directive's own; the rest came from
+    /// `Attribute` (never reported unused).
+    own: usize,
+    /// "Looked up" flags of the first 64 parameters, as bits (a description
+    /// holds millions of these: no allocation for them).
+    used: Cell<u64>,
+    /// Flags of parameters past the 64th.
+    used_beyond: Vec<Cell<bool>>,
 }
 
 impl PartialEq for ParamSet {
@@ -29,14 +34,35 @@ impl PartialEq for ParamSet {
 
 impl ParamSet {
     pub fn new(params: Vec<Param>, attributes: &[Param]) -> Self {
-        let n = params.len();
+        let own = params.len();
         let mut all = params;
         // Later attributes override earlier ones: search them last-first.
         all.extend(attributes.iter().rev().cloned());
         ParamSet {
-            from_attributes: (0..all.len()).map(|i| i >= n).collect(),
-            used: (0..all.len()).map(|_| Cell::new(false)).collect(),
+            used: Cell::new(0),
+            used_beyond: (64..all.len()).map(|_| Cell::new(false)).collect(),
             params: all,
+            own,
+        }
+    }
+
+    fn is_attribute(&self, i: usize) -> bool {
+        i >= self.own
+    }
+
+    fn mark_used(&self, i: usize) {
+        if i < 64 {
+            self.used.set(self.used.get() | 1 << i);
+        } else {
+            self.used_beyond[i - 64].set(true);
+        }
+    }
+
+    fn is_used(&self, i: usize) -> bool {
+        if i < 64 {
+            self.used.get() & (1 << i) != 0
+        } else {
+            self.used_beyond[i - 64].get()
         }
     }
 
@@ -50,11 +76,7 @@ impl ParamSet {
 
     /// The directive's own parameters (not the attributes), for printing.
     pub fn own(&self) -> impl Iterator<Item = &Param> {
-        self.params
-            .iter()
-            .zip(&self.from_attributes)
-            .filter(|(_, a)| !**a)
-            .map(|(p, _)| p)
+        self.params[..self.own].iter()
     }
 
     /// The first parameter called `name` (marked used), if any; an error
@@ -65,13 +87,13 @@ impl ParamSet {
             .params
             .iter()
             .enumerate()
-            .filter(|(i, p)| !self.from_attributes[*i] && p.name == name)
+            .filter(|(i, p)| !self.is_attribute(*i) && p.name == name)
             .last()
             .or_else(|| {
                 self.params
                     .iter()
                     .enumerate()
-                    .find(|(i, p)| self.from_attributes[*i] && p.name == name)
+                    .find(|(i, p)| self.is_attribute(*i) && p.name == name)
             });
         let Some((i, p)) = own_last else {
             return Ok(None);
@@ -79,7 +101,7 @@ impl ParamSet {
         // Same-named parameters are all accounted for by this lookup.
         for (j, q) in self.params.iter().enumerate() {
             if q.name == name && types.contains(&q.ty) {
-                self.used[j].set(true);
+                self.mark_used(j);
             }
         }
         if !types.contains(&p.ty) {
@@ -95,7 +117,7 @@ impl ParamSet {
                 &p.location,
             );
         }
-        self.used[i].set(true);
+        self.mark_used(i);
         Ok(Some(p))
     }
 
@@ -114,7 +136,9 @@ impl ParamSet {
     }
 
     pub fn float(&self, name: &str, default: f64) -> Result<f64> {
-        Ok(self.one_number(name, ParamType::Float)?.map_or(default, |(x, _)| x))
+        Ok(self
+            .one_number(name, ParamType::Float)?
+            .map_or(default, |(x, _)| x))
     }
 
     pub fn int(&self, name: &str, default: i32) -> Result<i32> {
@@ -150,7 +174,10 @@ impl ParamSet {
         };
         match p.strings() {
             [s] => Ok(Some(s.clone())),
-            _ => scene_error(format!("expected one texture name for \"{name}\""), &p.location),
+            _ => scene_error(
+                format!("expected one texture name for \"{name}\""),
+                &p.location,
+            ),
         }
     }
 
@@ -163,7 +190,9 @@ impl ParamSet {
     pub fn ints(&self, name: &str) -> Result<Vec<i32>> {
         Ok(self
             .find(name, &[ParamType::Integer])?
-            .map_or_else(Vec::new, |p| p.numbers().iter().map(|&x| x as i32).collect()))
+            .map_or_else(Vec::new, |p| {
+                p.numbers().iter().map(|&x| x as i32).collect()
+            }))
     }
 
     pub fn strings(&self, name: &str) -> Result<Vec<String>> {
@@ -216,16 +245,18 @@ impl ParamSet {
 
     /// The first parameter nothing looked up, as an error (pbrt-v4 treats
     /// unused parameters as errors: they are usually misspellings).
-    pub fn report_unused(&self, what: &str) -> Result<()> {
+    /// `what` names the entity (made only for the error).
+    pub fn report_unused(&self, what: impl FnOnce() -> String) -> Result<()> {
         for (i, p) in self.params.iter().enumerate() {
-            if self.from_attributes[i] || self.used[i].get() {
+            if self.is_attribute(i) || self.is_used(i) {
                 continue;
             }
             return Err(SceneError::new(
                 format!(
-                    "\"{} {}\": unused parameter (not a parameter of {what})",
+                    "\"{} {}\": unused parameter (not a parameter of {})",
                     p.ty.name(),
-                    p.name
+                    p.name,
+                    what()
                 ),
                 &p.location,
             )
@@ -236,7 +267,10 @@ impl ParamSet {
 
     /// Values of a parameter for printing a summary (first match).
     pub fn values(&self, name: &str) -> Option<&Values> {
-        self.params.iter().find(|p| p.name == name).map(|p| &p.values)
+        self.params
+            .iter()
+            .find(|p| p.name == name)
+            .map(|p| &p.values)
     }
 }
 
@@ -247,18 +281,22 @@ mod tests {
 
     fn params(text: &str) -> ParamSet {
         let d = Parser::from_text("<t>", text).next().unwrap().unwrap();
-        let Directive::Shape(e) = d.directive else { panic!() };
+        let Directive::Shape(e) = d.directive else {
+            panic!()
+        };
         ParamSet::new(e.params, &[])
     }
 
     #[test]
     fn typed_lookups_with_defaults() {
-        let p = params("Shape \"sphere\" \"float radius\" 2 \"integer n\" [3] \"point3 P\" [1 2 3 4 5 6]");
+        let p = params(
+            "Shape \"sphere\" \"float radius\" 2 \"integer n\" [3] \"point3 P\" [1 2 3 4 5 6]",
+        );
         assert_eq!(p.float("radius", 1.0).unwrap(), 2.0);
         assert_eq!(p.float("zmin", -1.0).unwrap(), -1.0);
         assert_eq!(p.int("n", 0).unwrap(), 3);
         assert_eq!(p.point3s("P").unwrap().len(), 2);
-        p.report_unused("sphere").unwrap();
+        p.report_unused(|| "sphere".into()).unwrap();
     }
 
     #[test]
@@ -272,7 +310,7 @@ mod tests {
     fn unused_parameters_are_reported_with_location() {
         let p = params("Shape \"sphere\"\n  \"float radious\" 2");
         p.float("radius", 1.0).unwrap();
-        let e = p.report_unused("sphere").unwrap_err().to_string();
+        let e = p.report_unused(|| "sphere".into()).unwrap_err().to_string();
         assert!(e.contains("radious") && e.contains("<t>:2:3"), "{e}");
     }
 }

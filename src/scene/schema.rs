@@ -148,7 +148,9 @@ fn slots(category: Category, kind: &str) -> Option<[&'static [Slot]; 3]> {
         (Film, "rgb") => none,
         (Film, "gbuffer") => &[("coordinatesystem", S)],
         (Film, "spectral") => &[("nbuckets", I), ("lambdamin", F), ("lambdamax", F)],
-        (Sampler, "halton" | "independent" | "paddedsobol" | "pmj02bn" | "sobol" | "zsobol") => none,
+        (Sampler, "halton" | "independent" | "paddedsobol" | "pmj02bn" | "sobol" | "zsobol") => {
+            none
+        }
         (Sampler, "stratified") => &[("xsamples", I), ("ysamples", I), ("jitter", B)],
         (Filter, "box" | "triangle") => none,
         (Filter, "gaussian") => &[("sigma", F)],
@@ -175,7 +177,12 @@ fn slots(category: Category, kind: &str) -> Option<[&'static [Slot]; 3]> {
             ("maxdepth", I),
         ],
         (Shape, "sphere" | "cylinder") => &[("radius", F), ("zmin", F), ("zmax", F), ("phimax", F)],
-        (Shape, "disk") => &[("height", F), ("radius", F), ("innerradius", F), ("phimax", F)],
+        (Shape, "disk") => &[
+            ("height", F),
+            ("radius", F),
+            ("innerradius", F),
+            ("phimax", F),
+        ],
         (Shape, "trianglemesh" | "bilinearmesh") => &[
             ("P", P3),
             ("indices", I),
@@ -228,11 +235,9 @@ fn slots(category: Category, kind: &str) -> Option<[&'static [Slot]; 3]> {
         ],
         (Material, "conductor") => &[("eta", ST), ("k", ST), ("reflectance", ST)],
         (Material, "dielectric" | "thindielectric") => &[("eta", ANY)],
-        (Material, "diffusetransmission") => &[
-            ("reflectance", ST),
-            ("transmittance", ST),
-            ("scale", F),
-        ],
+        (Material, "diffusetransmission") => {
+            &[("reflectance", ST), ("transmittance", ST), ("scale", F)]
+        }
         (Material, "hair") => &[
             ("sigma_a", ST),
             ("reflectance", ST),
@@ -263,7 +268,12 @@ fn slots(category: Category, kind: &str) -> Option<[&'static [Slot]; 3]> {
         (Texture, "dots") => &[("inside", ANY), ("outside", ANY)],
         (Texture, "fbm" | "wrinkled") => &[("octaves", I), ("roughness", F)],
         (Texture, "windy") => none,
-        (Texture, "marble") => &[("octaves", I), ("roughness", F), ("scale", F), ("variation", F)],
+        (Texture, "marble") => &[
+            ("octaves", I),
+            ("roughness", F),
+            ("scale", F),
+            ("variation", F),
+        ],
         (Texture, "imagemap") => &[
             ("filename", S),
             ("maxanisotropy", F),
@@ -273,7 +283,12 @@ fn slots(category: Category, kind: &str) -> Option<[&'static [Slot]; 3]> {
             ("scale", F),
             ("wrap", S),
         ],
-        (Texture, "ptex") => &[("filename", S), ("encoding", S), ("scale", F), ("invert", B)],
+        (Texture, "ptex") => &[
+            ("filename", S),
+            ("encoding", S),
+            ("scale", F),
+            ("invert", B),
+        ],
         (Texture, "bilerp") => &[("v00", ANY), ("v01", ANY), ("v10", ANY), ("v11", ANY)],
         (Light, "point") => &[("I", SP), ("from", P3)],
         (Light, "spot") => &[
@@ -286,7 +301,12 @@ fn slots(category: Category, kind: &str) -> Option<[&'static [Slot]; 3]> {
         (Light, "goniometric") => &[("I", SP), ("filename", S)],
         (Light, "projection") => &[("I", SP), ("fov", F), ("filename", S)],
         (Light, "distant") => &[("L", SP), ("from", P3), ("to", P3), ("illuminance", F)],
-        (Light, "infinite") => &[("L", SP), ("filename", S), ("illuminance", F), ("portal", P3)],
+        (Light, "infinite") => &[
+            ("L", SP),
+            ("filename", S),
+            ("illuminance", F),
+            ("portal", P3),
+        ],
         (AreaLight, "diffuse") => &[("L", SP), ("twosided", B), ("filename", S)],
         (Medium, "homogeneous") => none,
         (Medium, "uniformgrid") => GRID,
@@ -353,5 +373,5 @@ pub fn check(category: Category, kind: &str, params: &ParamSet, location: &Locat
     for (name, types) in groups.iter().flat_map(|g| g.iter()) {
         params.find(name, types)?;
     }
-    params.report_unused(&format!("{} \"{kind}\"", category.name()))
+    params.report_unused(|| format!("{} \"{kind}\"", category.name()))
 }

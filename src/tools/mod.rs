@@ -1,0 +1,4 @@
+//! Tools around rendering: generated test scenes (and later image
+//! comparison, convergence runs, BCSDF maps).
+
+pub mod curvegen;
