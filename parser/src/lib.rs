@@ -57,6 +57,8 @@ pub struct Parser {
     failed: bool,
     warnings: Vec<Warning>,
     warned: HashSet<String>,
+    /// The largest read window any file has needed, in bytes.
+    peak_window: usize,
 }
 
 impl Parser {
@@ -83,6 +85,7 @@ impl Parser {
             failed: false,
             warnings: Vec::new(),
             warned: HashSet::new(),
+            peak_window: 0,
         }
     }
 
@@ -91,6 +94,13 @@ impl Parser {
     pub fn follow_includes(mut self, follow: bool) -> Self {
         self.follow_includes = follow;
         self
+    }
+
+    /// The most text held in memory for one file at once (bytes): the
+    /// parser streams, so this stays near the window size however large the
+    /// file, unless a single directive is larger.
+    pub fn peak_window_bytes(&self) -> usize {
+        self.peak_window
     }
 
     /// Warnings so far (each distinct message once).
@@ -109,7 +119,14 @@ impl Parser {
 
     fn include(&mut self, path: &str, location: &Location) -> Result<(), ParseError> {
         let including = &self.stack.last().expect("include from an open file").file;
-        let resolved = resolve_path(including.directory(), path);
+        let mut resolved = resolve_path(including.directory(), path);
+        // pbrt-v4 resolves against the main file's directory; try that too.
+        if !resolved.exists() {
+            let main = resolve_path(self.stack[0].file.directory(), path);
+            if main.exists() {
+                resolved = main;
+            }
+        }
         let canonical = std::fs::canonicalize(&resolved).ok();
         let cyclic = canonical.is_some()
             && self
@@ -132,7 +149,9 @@ impl Parser {
             let Some(top) = self.stack.last_mut() else {
                 return Ok(None);
             };
-            let Some((mut located, deprecated)) = top.next_directive()? else {
+            let next = top.next_directive();
+            self.peak_window = self.peak_window.max(top.peak_window);
+            let Some((mut located, deprecated)) = next? else {
                 self.stack.pop();
                 continue;
             };
@@ -269,8 +288,9 @@ mod tests {
             i += 1;
         }
         std::fs::write(&path, &text).unwrap();
-        let count = Parser::open(&path)
-            .unwrap()
+        let mut parser = Parser::open(&path).unwrap();
+        let count = parser
+            .by_ref()
             .map(|d| {
                 let d = d.unwrap();
                 let Directive::Shape(e) = d.directive else {
@@ -282,6 +302,12 @@ mod tests {
             .inspect(|(k, last)| assert_eq!(*k as f64, *last))
             .count();
         assert_eq!(count as u64, i);
+        // The file is 3 MiB; the window never held more than two chunks.
+        assert!(
+            parser.peak_window_bytes() <= 2 << 20,
+            "{}",
+            parser.peak_window_bytes()
+        );
         std::fs::remove_dir_all(&dir).ok();
     }
 }

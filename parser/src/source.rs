@@ -44,6 +44,8 @@ pub(crate) struct Source {
     pos: usize,
     /// Offset in the file of `buf[0]`.
     base: usize,
+    /// The largest the window has been, in bytes.
+    pub peak_window: usize,
 }
 
 impl Source {
@@ -67,6 +69,7 @@ impl Source {
             buf: Vec::new(),
             pos: 0,
             base: 0,
+            peak_window: 0,
         })
     }
 
@@ -74,6 +77,7 @@ impl Source {
         Source {
             file,
             reader: None,
+            peak_window: text.len(),
             buf: text,
             pos: 0,
             base: 0,
@@ -111,6 +115,7 @@ impl Source {
                 Err(e) if e.kind() == std::io::ErrorKind::Interrupted => self.buf.truncate(len),
                 Err(e) => {
                     self.buf.truncate(len);
+                    self.peak_window = self.peak_window.max(self.buf.capacity());
                     return Err(ParseError::new(
                         ErrorKind::CannotRead {
                             path: self.file.path.display().to_string(),
@@ -121,6 +126,7 @@ impl Source {
                 }
             }
         }
+        self.peak_window = self.peak_window.max(self.buf.capacity());
         Ok(())
     }
 

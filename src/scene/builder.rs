@@ -436,12 +436,14 @@ impl SceneBuilder {
                 let value = match value_type.as_str() {
                     "float" => TextureValue::Float,
                     "spectrum" => TextureValue::Spectrum,
-                    other => return scene_error(
-                        format!(
+                    other => {
+                        return scene_error(
+                            format!(
                             "texture type \"{other}\" unknown: expected \"float\" or \"spectrum\""
                         ),
-                        loc,
-                    ),
+                            loc,
+                        )
+                    }
                 };
                 if !self.texture_names.insert((value, name.clone())) {
                     return scene_error(format!("texture \"{name}\" redefined"), loc);
