@@ -324,11 +324,12 @@ pub fn validate(ty: ParamType, name: &str, values: &mut Values) -> Result<(), Er
     }
 }
 
+/// A parsed declaration: remaining input, type, name, values, and the
+/// pbrt-v3 type name if one was used.
+pub type Declaration<'a> = (&'a [u8], ParamType, String, Values, Option<String>);
+
 /// Parses a `"type name"` declaration and its values.
-/// Returns the remaining input, the type, the name and the values.
-pub fn declaration_and_values(
-    input: &[u8],
-) -> Result<(&[u8], ParamType, String, Values, Option<String>), nom::Err<LexError<'_>>> {
+pub fn declaration_and_values(input: &[u8]) -> Result<Declaration<'_>, nom::Err<LexError<'_>>> {
     let start = input;
     let (rest, declaration) = lexer::quoted_string(input)?;
     let Some((tyname, name)) = split_declaration(&declaration) else {

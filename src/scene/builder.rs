@@ -818,7 +818,7 @@ pub fn load_text(name: &Path, text: &str) -> Result<Loaded> {
 /// Feeds every directive of `parser` to `builder`.
 pub fn describe(mut parser: Parser, mut builder: SceneBuilder) -> Result<Loaded> {
     let mut last = None;
-    while let Some(directive) = parser.next() {
+    for directive in parser.by_ref() {
         let directive = directive.map_err(Error::from)?;
         last = Some(directive.location.clone());
         builder.apply(directive)?;
