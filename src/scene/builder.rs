@@ -85,6 +85,15 @@ pub struct SceneBuilder {
     last_transform: Option<(AnimatedTransform, TransformId)>,
 }
 
+/// The `"string type"` of a named material or medium (whose directive
+/// names the thing, not its type).
+fn declared_type(e: &ParsedEntity, what: &str, loc: &Location) -> Result<String> {
+    match e.param("type").map(|p| p.strings()) {
+        Some([kind]) => Ok(kind.clone()),
+        _ => scene_error(format!("{what} \"{}\": \"string type\" not provided", e.kind), loc),
+    }
+}
+
 fn default_entity(kind: &str) -> Entity {
     Entity {
         kind: kind.to_string(),
@@ -414,12 +423,7 @@ impl SceneBuilder {
                 if self.scene.named_materials.contains_key(&name) {
                     return scene_error(format!("named material \"{name}\" redefined"), loc);
                 }
-                let Some(kind) = e.param("type").and_then(|p| p.strings().first().cloned()) else {
-                    return scene_error(
-                        format!("named material \"{name}\": \"string type\" not provided"),
-                        loc,
-                    );
-                };
+                let kind = declared_type(&e, "named material", loc)?;
                 let entity = self.entity(Category::Material, &kind, e.params, Some(2), loc)?;
                 self.scene.named_materials.insert(name, entity);
             }
@@ -462,12 +466,7 @@ impl SceneBuilder {
                 if self.scene.media.iter().any(|m| m.name == name) {
                     return scene_error(format!("named medium \"{name}\" redefined"), loc);
                 }
-                let Some(kind) = e.param("type").and_then(|p| p.strings().first().cloned()) else {
-                    return scene_error(
-                        format!("medium \"{name}\": \"string type\" not provided"),
-                        loc,
-                    );
-                };
+                let kind = declared_type(&e, "medium", loc)?;
                 let entity = self.entity(Category::Medium, &kind, e.params, Some(3), loc)?;
                 self.scene.media.push(Medium {
                     name,
