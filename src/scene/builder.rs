@@ -90,7 +90,10 @@ pub struct SceneBuilder {
 fn declared_type(e: &ParsedEntity, what: &str, loc: &Location) -> Result<String> {
     match e.param("type").map(|p| p.strings()) {
         Some([kind]) => Ok(kind.clone()),
-        _ => scene_error(format!("{what} \"{}\": \"string type\" not provided", e.kind), loc),
+        _ => scene_error(
+            format!("{what} \"{}\": \"string type\" not provided", e.kind),
+            loc,
+        ),
     }
 }
 
