@@ -5,8 +5,10 @@
 //! See `docs/architecture.md`.
 
 pub mod error;
+pub mod interaction;
 pub mod math;
 pub mod scene;
+pub mod spectrum;
 pub mod tools;
 
 pub use error::{Error, Result};

@@ -109,6 +109,16 @@ impl Transform {
         self.matrix.project_point3(p)
     }
 
+    /// The matrix in f32, for rendering.
+    pub fn to_mat4(&self) -> glam::Mat4 {
+        self.matrix.as_mat4()
+    }
+
+    /// The inverse matrix in f32.
+    pub fn inverse_mat4(&self) -> glam::Mat4 {
+        self.inverse.as_mat4()
+    }
+
     /// Whether the transform flips handedness.
     pub fn swaps_handedness(&self) -> bool {
         glam::DMat3::from_mat4(self.matrix).determinant() < 0.0
