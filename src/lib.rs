@@ -4,10 +4,20 @@
 //! scene description ([`scene`]) → built scene → integrator → film → image.
 //! See `docs/architecture.md`.
 
+pub mod accel;
+pub mod bxdfs;
+pub mod cameras;
 pub mod error;
 pub mod interaction;
 pub mod math;
+// pending merge: pub mod film;
+// pending merge: pub mod integrators;
+// pending merge: pub mod lights;
+// pending merge: pub mod materials;
+// pending merge: pub mod pipeline;
+// pending merge: pub mod render;
 pub mod scene;
+// pending merge: pub mod textures;
 pub mod spectrum;
 pub mod tools;
 

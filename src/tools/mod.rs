@@ -2,3 +2,4 @@
 //! comparison, convergence runs, BCSDF maps).
 
 pub mod curvegen;
+pub mod imgdiff;

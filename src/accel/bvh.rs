@@ -1,0 +1,197 @@
+//! A bounding volume hierarchy over anything with bounds, built with obvhs
+//! (PLOC + reinsertion, then an 8-wide compressed BVH traversed with SIMD).
+//!
+//! obvhs builds from boxes alone, so any primitive (triangles, spheres,
+//! curve segments, instances) fits; traversal calls back with a primitive
+//! index and the caller intersects it exactly.
+
+use crate::math::{Bounds3, Ray};
+use glam::Vec3A;
+use obvhs::aabb::Aabb;
+use obvhs::cwbvh::builder::build_cwbvh;
+use obvhs::cwbvh::CwBvh;
+use obvhs::ray::RayHit;
+use obvhs::BvhBuildParams;
+
+/// A BVH whose leaves refer to primitives `0..n` in the order given to
+/// [`Bvh::build`] — callers should store their primitives in
+/// [`Bvh::order`] so that neighbours in the tree are neighbours in memory.
+pub struct Bvh {
+    tree: Option<CwBvh>,
+    bounds: Bounds3,
+}
+
+impl Bvh {
+    /// Builds over `bounds` and returns the BVH with the order in which the
+    /// caller should lay out its primitives (index `i` of the new layout is
+    /// the caller's primitive `order[i]`).
+    pub fn build(bounds: &[Bounds3]) -> (Bvh, Vec<u32>) {
+        let total = bounds.iter().fold(Bounds3::EMPTY, |a, b| a.union(*b));
+        if bounds.is_empty() {
+            return (
+                Bvh {
+                    tree: None,
+                    bounds: total,
+                },
+                Vec::new(),
+            );
+        }
+        let aabbs: Vec<Aabb> = bounds
+            .iter()
+            .map(|b| Aabb::new(Vec3A::from(b.min), Vec3A::from(b.max)))
+            .collect();
+        let mut build_time = std::time::Duration::ZERO;
+        let mut tree = build_cwbvh(&aabbs, BvhBuildParams::medium_build(), &mut build_time);
+        let order = std::mem::take(&mut tree.primitive_indices);
+        // Leaves now index the caller's reordered array directly.
+        tree.primitive_indices = (0..order.len() as u32).collect();
+        (
+            Bvh {
+                tree: Some(tree),
+                bounds: total,
+            },
+            order,
+        )
+    }
+
+    pub fn bounds(&self) -> Bounds3 {
+        self.bounds
+    }
+
+    fn obvhs_ray(ray: &Ray, t_max: f32) -> obvhs::ray::Ray {
+        obvhs::ray::Ray::new(
+            Vec3A::from(ray.origin),
+            Vec3A::from(ray.direction),
+            0.0,
+            t_max,
+        )
+    }
+
+    /// Closest hit: `intersect(i, t_max)` returns the hit distance of
+    /// primitive `i` if it is below `t_max` (and above 0). Returns the
+    /// primitive and distance of the closest hit.
+    pub fn closest_hit(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        mut intersect: impl FnMut(usize, f32) -> Option<f32>,
+    ) -> Option<(usize, f32)> {
+        let tree = self.tree.as_ref()?;
+        let mut hit = RayHit::none();
+        let found = tree.ray_traverse(Self::obvhs_ray(ray, t_max), &mut hit, |r, i| {
+            let index = tree.primitive_indices[i] as usize;
+            match intersect(index, r.tmax) {
+                Some(t) if t > 0.0 && t < r.tmax => t,
+                _ => f32::INFINITY,
+            }
+        });
+        found.then(|| {
+            (
+                tree.primitive_indices[hit.primitive_id as usize] as usize,
+                hit.t,
+            )
+        })
+    }
+
+    /// Whether any primitive is hit before `t_max`.
+    pub fn any_hit(&self, ray: &Ray, t_max: f32, mut hits: impl FnMut(usize, f32) -> bool) -> bool {
+        let Some(tree) = self.tree.as_ref() else {
+            return false;
+        };
+        !tree.ray_traverse_miss(Self::obvhs_ray(ray, t_max), |r, i| {
+            if hits(tree.primitive_indices[i] as usize, r.tmax) {
+                0.5 * r.tmax
+            } else {
+                f32::INFINITY
+            }
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec3;
+
+    /// Unit spheres on a grid, intersected exactly.
+    fn sphere_hit(center: Vec3, ray: &Ray, t_max: f32) -> Option<f32> {
+        let oc = ray.origin - center;
+        let a = ray.direction.length_squared();
+        let b = oc.dot(ray.direction);
+        let c = oc.length_squared() - 0.25;
+        let disc = b * b - a * c;
+        if disc < 0.0 {
+            return None;
+        }
+        let t = (-b - disc.sqrt()) / a;
+        (t > 0.0 && t < t_max).then_some(t)
+    }
+
+    #[test]
+    fn closest_and_any_hit_match_brute_force() {
+        let centers: Vec<Vec3> = (0..1000)
+            .map(|i| Vec3::new((i % 10) as f32, ((i / 10) % 10) as f32, (i / 100) as f32) * 1.5)
+            .collect();
+        let bounds: Vec<Bounds3> = centers
+            .iter()
+            .map(|&c| Bounds3 {
+                min: c - Vec3::splat(0.5),
+                max: c + Vec3::splat(0.5),
+            })
+            .collect();
+        let (bvh, order) = Bvh::build(&bounds);
+        let reordered: Vec<Vec3> = order.iter().map(|&i| centers[i as usize]).collect();
+        let mut state = 12345u32;
+        let mut rnd = || {
+            state ^= state << 13;
+            state ^= state >> 17;
+            state ^= state << 5;
+            state as f32 / u32::MAX as f32
+        };
+        for _ in 0..2000 {
+            let origin = Vec3::new(rnd() * 20.0 - 3.0, rnd() * 20.0 - 3.0, -5.0);
+            let dir = Vec3::new(rnd() - 0.5, rnd() - 0.5, 1.0).normalize();
+            let ray = Ray::new(origin, dir, 0.0);
+            let brute = centers
+                .iter()
+                .filter_map(|&c| sphere_hit(c, &ray, f32::INFINITY))
+                .fold(f32::INFINITY, f32::min);
+            let got = bvh.closest_hit(&ray, f32::INFINITY, |i, t_max| {
+                sphere_hit(reordered[i], &ray, t_max)
+            });
+            match got {
+                Some((i, t)) => {
+                    assert!((t - brute).abs() < 1e-4, "{t} vs {brute}");
+                    assert!(
+                        (sphere_hit(reordered[i], &ray, f32::INFINITY).unwrap() - t).abs() < 1e-4
+                    );
+                }
+                None => assert!(brute.is_infinite()),
+            }
+            let any = bvh.any_hit(&ray, 1e30, |i, t_max| {
+                sphere_hit(reordered[i], &ray, t_max).is_some()
+            });
+            assert_eq!(any, brute.is_finite());
+        }
+    }
+
+    #[test]
+    fn empty_and_single() {
+        let (bvh, order) = Bvh::build(&[]);
+        assert!(order.is_empty());
+        assert!(bvh
+            .closest_hit(&Ray::new(Vec3::ZERO, Vec3::Z, 0.0), 1.0, |_, _| Some(0.5))
+            .is_none());
+        let (bvh, order) = Bvh::build(&[Bounds3 {
+            min: Vec3::splat(-1.0),
+            max: Vec3::splat(1.0),
+        }]);
+        assert_eq!(order, vec![0]);
+        let hit = bvh.closest_hit(
+            &Ray::new(Vec3::new(0.0, 0.0, -5.0), Vec3::Z, 0.0),
+            100.0,
+            |_, _| Some(4.0),
+        );
+        assert_eq!(hit, Some((0, 4.0)));
+    }
+}

@@ -1,0 +1,635 @@
+//! pbrt-v4's hair BSDF (Chiang et al. 2016, "A Practical and Controllable
+//! Hair and Fur Model for Production Path Tracing"): a rough dielectric
+//! cylinder, scattering split into lobes p = 0 (R), 1 (TT), 2 (TRT) and a
+//! residual for p ≥ 3, each a product of a longitudinal term M_p, an
+//! attenuation A_p and an azimuthal term N_p.
+//!
+//! Local frame: x along the fibre (so sin θ = ω.x), y across the fibre's
+//! projected width, z the surface normal; azimuth φ = atan2(ω.z, ω.y).
+//! `h` ∈ [−1, 1] is where the ray crossed the fibre's width.
+
+use crate::math::{safe_asin, safe_sqrt, sqr};
+use crate::spectrum::SampledSpectrum;
+use glam::{Vec2, Vec3};
+use std::f32::consts::PI;
+
+/// Lobes evaluated explicitly; higher orders form the residual lobe.
+pub const P_MAX: usize = 3;
+
+/// √(π/8), from the logistic's variance.
+const SQRT_PI_OVER_8: f32 = 0.626_657_07;
+
+#[derive(Clone, Copy, Debug)]
+pub struct HairBxDF {
+    /// Offset across the fibre, −1…1.
+    pub h: f32,
+    /// Index of refraction of the fibre interior.
+    pub eta: f32,
+    /// Absorption coefficient inside the fibre (per unit diameter).
+    pub sigma_a: SampledSpectrum,
+    /// Longitudinal variances v_p of M_p.
+    v: [f32; P_MAX + 1],
+    /// Logistic scale s of N_p.
+    s: f32,
+    /// sin and cos of 2^k α, k = 0, 1, 2 (cuticle tilt shifts).
+    sin_2k_alpha: [f32; 3],
+    cos_2k_alpha: [f32; 3],
+}
+
+/// A sampled direction.
+#[derive(Clone, Copy, Debug)]
+pub struct HairSample {
+    pub f: SampledSpectrum,
+    pub wi: Vec3,
+    pub pdf: f32,
+}
+
+/// Modified Bessel function of the first kind, order 0 (series).
+fn i0(x: f32) -> f32 {
+    let mut val = 0.0;
+    let mut x2i = 1.0;
+    let mut ifact: i64 = 1;
+    let mut i4 = 1.0f32;
+    for i in 0..10 {
+        if i > 1 {
+            ifact *= i;
+        }
+        val += x2i / (i4 * sqr(ifact as f32));
+        x2i *= x * x;
+        i4 *= 4.0;
+    }
+    val
+}
+
+/// log I₀(x), with the asymptotic form for large x (I₀ overflows).
+fn log_i0(x: f32) -> f32 {
+    if x > 12.0 {
+        x + 0.5 * (-(2.0 * PI).ln() + (1.0 / x).ln() + 1.0 / (8.0 * x))
+    } else {
+        i0(x).ln()
+    }
+}
+
+/// Longitudinal scattering M_p (d'Eon et al. 2011), with the log form for
+/// low variance where the direct one overflows.
+fn mp(cos_theta_i: f32, cos_theta_o: f32, sin_theta_i: f32, sin_theta_o: f32, v: f32) -> f32 {
+    let a = cos_theta_i * cos_theta_o / v;
+    let b = sin_theta_i * sin_theta_o / v;
+    if v <= 0.1 {
+        (log_i0(a) - b - 1.0 / v + 0.6931 + (1.0 / (2.0 * v)).ln()).exp()
+    } else {
+        ((-b).exp() * i0(a)) / ((1.0 / v).sinh() * 2.0 * v)
+    }
+}
+
+/// Fresnel reflectance of a dielectric interface (η relative, unpolarised).
+pub fn fr_dielectric(cos_theta_i: f32, eta: f32) -> f32 {
+    let mut cos_i = cos_theta_i.clamp(-1.0, 1.0);
+    let mut eta = eta;
+    if cos_i < 0.0 {
+        eta = 1.0 / eta;
+        cos_i = -cos_i;
+    }
+    let sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);
+    if sin2_t >= 1.0 {
+        return 1.0;
+    }
+    let cos_t = safe_sqrt(1.0 - sin2_t);
+    let r_parl = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+    let r_perp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+    (r_parl * r_parl + r_perp * r_perp) / 2.0
+}
+
+/// Attenuations A_0…A_pMax, the last being the residual of all higher
+/// orders (a geometric series).
+fn ap(cos_theta_o: f32, eta: f32, h: f32, t: SampledSpectrum) -> [SampledSpectrum; P_MAX + 1] {
+    let cos_gamma_o = safe_sqrt(1.0 - h * h);
+    let f = fr_dielectric(cos_theta_o * cos_gamma_o, eta);
+    let mut a = [SampledSpectrum::ZERO; P_MAX + 1];
+    a[0] = SampledSpectrum::splat(f);
+    a[1] = t * sqr(1.0 - f);
+    for p in 2..P_MAX {
+        a[p] = a[p - 1] * t * f;
+    }
+    let denom = SampledSpectrum::ONE - t * f;
+    a[P_MAX] = (a[P_MAX - 1] * t * f).safe_div(denom);
+    a
+}
+
+/// Net azimuthal deflection of lobe p.
+fn phi(p: usize, gamma_o: f32, gamma_t: f32) -> f32 {
+    2.0 * p as f32 * gamma_t - 2.0 * gamma_o + p as f32 * PI
+}
+
+fn logistic(x: f32, s: f32) -> f32 {
+    let x = x.abs();
+    let e = (-x / s).exp();
+    e / (s * sqr(1.0 + e))
+}
+
+fn logistic_cdf(x: f32, s: f32) -> f32 {
+    1.0 / (1.0 + (-x / s).exp())
+}
+
+/// The logistic restricted to [a, b] and renormalised.
+fn trimmed_logistic(x: f32, s: f32, a: f32, b: f32) -> f32 {
+    logistic(x, s) / (logistic_cdf(b, s) - logistic_cdf(a, s))
+}
+
+fn sample_trimmed_logistic(u: f32, s: f32, a: f32, b: f32) -> f32 {
+    let k = logistic_cdf(b, s) - logistic_cdf(a, s);
+    let x = -s * (1.0 / (u * k + logistic_cdf(a, s)) - 1.0).ln();
+    x.clamp(a, b)
+}
+
+/// Azimuthal scattering N_p around lobe p's deflection.
+fn np(phi_: f32, p: usize, s: f32, gamma_o: f32, gamma_t: f32) -> f32 {
+    let mut dphi = phi_ - phi(p, gamma_o, gamma_t);
+    // Into [−π, π] (a bounded loop: φ comes from atan2 differences).
+    while dphi > PI {
+        dphi -= 2.0 * PI;
+    }
+    while dphi < -PI {
+        dphi += 2.0 * PI;
+    }
+    trimmed_logistic(dphi, s, -PI, PI)
+}
+
+/// Angles of ω_o needed by every lobe.
+struct Outgoing {
+    sin_theta_o: f32,
+    cos_theta_o: f32,
+    phi_o: f32,
+    gamma_o: f32,
+    gamma_t: f32,
+    t: SampledSpectrum,
+}
+
+impl HairBxDF {
+    /// `beta_m`, `beta_n`: longitudinal and azimuthal roughness in [0, 1];
+    /// `alpha_degrees`: cuticle tilt.
+    pub fn new(
+        h: f32,
+        eta: f32,
+        sigma_a: SampledSpectrum,
+        beta_m: f32,
+        beta_n: f32,
+        alpha_degrees: f32,
+    ) -> Self {
+        let v0 = sqr(0.726 * beta_m + 0.812 * sqr(beta_m) + 3.7 * beta_m.powi(20));
+        let mut v = [0.0; P_MAX + 1];
+        v[0] = v0;
+        v[1] = 0.25 * v0;
+        v[2] = 4.0 * v0;
+        let v2 = v[2];
+        for item in v.iter_mut().skip(3) {
+            *item = v2;
+        }
+        let s = SQRT_PI_OVER_8 * (0.265 * beta_n + 1.194 * sqr(beta_n) + 5.372 * beta_n.powi(22));
+        let mut sin_2k_alpha = [0.0; 3];
+        let mut cos_2k_alpha = [0.0; 3];
+        sin_2k_alpha[0] = alpha_degrees.to_radians().sin();
+        cos_2k_alpha[0] = safe_sqrt(1.0 - sqr(sin_2k_alpha[0]));
+        for i in 1..3 {
+            sin_2k_alpha[i] = 2.0 * cos_2k_alpha[i - 1] * sin_2k_alpha[i - 1];
+            cos_2k_alpha[i] = sqr(cos_2k_alpha[i - 1]) - sqr(sin_2k_alpha[i - 1]);
+        }
+        HairBxDF {
+            h,
+            eta,
+            sigma_a,
+            v,
+            s,
+            sin_2k_alpha,
+            cos_2k_alpha,
+        }
+    }
+
+    fn outgoing(&self, wo: Vec3) -> Outgoing {
+        let sin_theta_o = wo.x;
+        let cos_theta_o = safe_sqrt(1.0 - sqr(sin_theta_o));
+        let phi_o = wo.z.atan2(wo.y);
+        let gamma_o = safe_asin(self.h);
+        // The refracted ray, in the modified index η' (Bravais) of the
+        // projection into the normal plane.
+        let sin_theta_t = sin_theta_o / self.eta;
+        let cos_theta_t = safe_sqrt(1.0 - sqr(sin_theta_t));
+        let etap = safe_sqrt(sqr(self.eta) - sqr(sin_theta_o)) / cos_theta_o;
+        let sin_gamma_t = self.h / etap;
+        let cos_gamma_t = safe_sqrt(1.0 - sqr(sin_gamma_t));
+        let gamma_t = safe_asin(sin_gamma_t);
+        // Transmittance of one chord through the fibre.
+        let t = (-self.sigma_a * (2.0 * cos_gamma_t / cos_theta_t)).exp();
+        Outgoing {
+            sin_theta_o,
+            cos_theta_o,
+            phi_o,
+            gamma_o,
+            gamma_t,
+            t,
+        }
+    }
+
+    /// sin θ_o, cos θ_o rotated by the cuticle tilt for lobe p (R tilts by
+    /// −2α, TT by α, TRT by 4α).
+    fn tilted(&self, p: usize, sin_theta_o: f32, cos_theta_o: f32) -> (f32, f32) {
+        let (s, c) = match p {
+            0 => (
+                sin_theta_o * self.cos_2k_alpha[1] - cos_theta_o * self.sin_2k_alpha[1],
+                cos_theta_o * self.cos_2k_alpha[1] + sin_theta_o * self.sin_2k_alpha[1],
+            ),
+            1 => (
+                sin_theta_o * self.cos_2k_alpha[0] + cos_theta_o * self.sin_2k_alpha[0],
+                cos_theta_o * self.cos_2k_alpha[0] - sin_theta_o * self.sin_2k_alpha[0],
+            ),
+            2 => (
+                sin_theta_o * self.cos_2k_alpha[2] + cos_theta_o * self.sin_2k_alpha[2],
+                cos_theta_o * self.cos_2k_alpha[2] - sin_theta_o * self.sin_2k_alpha[2],
+            ),
+            _ => (sin_theta_o, cos_theta_o),
+        };
+        // The tilt can push cos θ below zero near grazing angles.
+        (s, c.abs())
+    }
+
+    /// f(ωo, ωi): the BSDF value (already divided by |cos θ_i|, as pbrt-v4
+    /// does, so that the integrator's cosine cancels).
+    pub fn f(&self, wo: Vec3, wi: Vec3) -> SampledSpectrum {
+        let o = self.outgoing(wo);
+        let sin_theta_i = wi.x;
+        let cos_theta_i = safe_sqrt(1.0 - sqr(sin_theta_i));
+        let phi_i = wi.z.atan2(wi.y);
+        let dphi = phi_i - o.phi_o;
+        let a = ap(o.cos_theta_o, self.eta, self.h, o.t);
+        let mut fsum = SampledSpectrum::ZERO;
+        for (p, a_p) in a.iter().enumerate().take(P_MAX) {
+            let (sin_o, cos_o) = self.tilted(p, o.sin_theta_o, o.cos_theta_o);
+            fsum += *a_p
+                * (mp(cos_theta_i, cos_o, sin_theta_i, sin_o, self.v[p])
+                    * np(dphi, p, self.s, o.gamma_o, o.gamma_t));
+        }
+        fsum += a[P_MAX]
+            * (mp(
+                cos_theta_i,
+                o.cos_theta_o,
+                sin_theta_i,
+                o.sin_theta_o,
+                self.v[P_MAX],
+            ) / (2.0 * PI));
+        let cos_wi = wi.z.abs();
+        if cos_wi > 0.0 {
+            fsum /= cos_wi;
+        }
+        fsum
+    }
+
+    /// Probabilities of choosing each lobe: A_p averaged over wavelengths.
+    fn ap_pdf(&self, o: &Outgoing) -> [f32; P_MAX + 1] {
+        let a = ap(o.cos_theta_o, self.eta, self.h, o.t);
+        let y: [f32; P_MAX + 1] = std::array::from_fn(|i| a[i].average());
+        let sum: f32 = y.iter().sum();
+        if sum <= 0.0 {
+            return [0.25; P_MAX + 1];
+        }
+        y.map(|v| v / sum)
+    }
+
+    /// Samples ωi: a lobe by its attenuation, θ_i from M_p, Δφ from N_p.
+    /// `uc` picks the lobe (and is reused, rescaled, for N_p); `u` drives
+    /// M_p.
+    pub fn sample_f(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<HairSample> {
+        let o = self.outgoing(wo);
+        let ap_pdf = self.ap_pdf(&o);
+        // Pick p and remap uc to [0, 1) within its interval.
+        let mut p = 0;
+        let mut acc = 0.0;
+        let mut uc = uc;
+        loop {
+            if p == P_MAX || uc < acc + ap_pdf[p] {
+                let width = ap_pdf[p].max(f32::MIN_POSITIVE);
+                uc = ((uc - acc) / width).clamp(0.0, 1.0 - f32::EPSILON / 2.0);
+                break;
+            }
+            acc += ap_pdf[p];
+            p += 1;
+        }
+        let (sin_o, cos_o) = self.tilted(p, o.sin_theta_o, o.cos_theta_o);
+        let v = self.v[p];
+        let cos_theta = 1.0 + v * (u.x.max(1e-5) + (1.0 - u.x) * (-2.0 / v).exp()).ln();
+        let sin_theta = safe_sqrt(1.0 - sqr(cos_theta));
+        let cos_phi = (2.0 * PI * u.y).cos();
+        let sin_theta_i = (-cos_theta * sin_o + sin_theta * cos_phi * cos_o).clamp(-1.0, 1.0);
+        let cos_theta_i = safe_sqrt(1.0 - sqr(sin_theta_i));
+        let dphi = if p < P_MAX {
+            phi(p, o.gamma_o, o.gamma_t) + sample_trimmed_logistic(uc, self.s, -PI, PI)
+        } else {
+            2.0 * PI * uc
+        };
+        let phi_i = o.phi_o + dphi;
+        let wi = Vec3::new(
+            sin_theta_i,
+            cos_theta_i * phi_i.cos(),
+            cos_theta_i * phi_i.sin(),
+        );
+        let pdf = self.pdf_from(&o, &ap_pdf, sin_theta_i, cos_theta_i, dphi);
+        if !(pdf > 0.0) || !pdf.is_finite() {
+            return None;
+        }
+        Some(HairSample {
+            f: self.f(wo, wi),
+            wi,
+            pdf,
+        })
+    }
+
+    fn pdf_from(
+        &self,
+        o: &Outgoing,
+        ap_pdf: &[f32; P_MAX + 1],
+        sin_theta_i: f32,
+        cos_theta_i: f32,
+        dphi: f32,
+    ) -> f32 {
+        let mut pdf = 0.0;
+        for (p, &a) in ap_pdf.iter().enumerate().take(P_MAX) {
+            let (sin_o, cos_o) = self.tilted(p, o.sin_theta_o, o.cos_theta_o);
+            pdf += mp(cos_theta_i, cos_o, sin_theta_i, sin_o, self.v[p])
+                * a
+                * np(dphi, p, self.s, o.gamma_o, o.gamma_t);
+        }
+        pdf += mp(
+            cos_theta_i,
+            o.cos_theta_o,
+            sin_theta_i,
+            o.sin_theta_o,
+            self.v[P_MAX],
+        ) * ap_pdf[P_MAX]
+            / (2.0 * PI);
+        pdf
+    }
+
+    /// Solid-angle density with which [`Self::sample_f`] picks ωi.
+    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+        let o = self.outgoing(wo);
+        let sin_theta_i = wi.x;
+        let cos_theta_i = safe_sqrt(1.0 - sqr(sin_theta_i));
+        let phi_i = wi.z.atan2(wi.y);
+        let ap_pdf = self.ap_pdf(&o);
+        self.pdf_from(&o, &ap_pdf, sin_theta_i, cos_theta_i, phi_i - o.phi_o)
+    }
+
+    /// σ_a from eumelanin and pheomelanin concentrations, in linear sRGB
+    /// (pbrt-v4's per-unit-concentration absorption of the two pigments).
+    pub fn sigma_a_from_concentration(eumelanin: f32, pheomelanin: f32) -> [f32; 3] {
+        const EUMELANIN: [f32; 3] = [0.419, 0.697, 1.37];
+        const PHEOMELANIN: [f32; 3] = [0.187, 0.4, 1.05];
+        std::array::from_fn(|i| eumelanin * EUMELANIN[i] + pheomelanin * PHEOMELANIN[i])
+    }
+
+    /// σ_a that gives a fibre of the given multiple-scattering colour
+    /// (Chiang et al.'s fitted inverse, per wavelength).
+    pub fn sigma_a_from_reflectance(c: SampledSpectrum, beta_n: f32) -> SampledSpectrum {
+        let denom = 5.969 - 0.215 * beta_n + 2.532 * sqr(beta_n) - 10.73 * beta_n.powi(3)
+            + 5.574 * beta_n.powi(4)
+            + 0.245 * beta_n.powi(5);
+        c.map(|ci| sqr(ci.max(1e-6).ln() / denom))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::math::sampling::{sample_uniform_sphere, UNIFORM_SPHERE_PDF};
+
+    /// A small deterministic generator for the tests.
+    struct Rng(u64);
+    impl Rng {
+        fn f(&mut self) -> f32 {
+            self.0 ^= self.0 << 13;
+            self.0 ^= self.0 >> 7;
+            self.0 ^= self.0 << 17;
+            (self.0 >> 40) as f32 / (1u64 << 24) as f32
+        }
+        fn v2(&mut self) -> Vec2 {
+            Vec2::new(self.f(), self.f())
+        }
+    }
+
+    fn lossless(h: f32, beta_m: f32, beta_n: f32) -> HairBxDF {
+        HairBxDF::new(h, 1.55, SampledSpectrum::ZERO, beta_m, beta_n, 0.0)
+    }
+
+    /// White furnace with σa = 0 (pbrt-v4's test): ∫ f |cos θi| dωi over the
+    /// sphere is 1, estimated with uniform directions, for a grid of
+    /// roughnesses.
+    #[test]
+    fn white_furnace_uniform() {
+        let mut rng = Rng(0x1234_5678);
+        let mut worst: f32 = 0.0;
+        for bm in [0.1f32, 0.3, 0.5, 0.7, 0.9, 1.0] {
+            for bn in [0.1f32, 0.3, 0.5, 0.7, 0.9, 1.0] {
+                let wo = sample_uniform_sphere(rng.v2());
+                let n = 300_000;
+                let mut sum = 0.0f64;
+                for _ in 0..n {
+                    let h = -1.0 + 2.0 * rng.f();
+                    let bxdf = lossless(h, bm, bn);
+                    let wi = sample_uniform_sphere(rng.v2());
+                    sum += (bxdf.f(wo, wi)[0] * wi.z.abs() / UNIFORM_SPHERE_PDF) as f64;
+                }
+                let avg = (sum / n as f64) as f32;
+                worst = worst.max((avg - 1.0).abs());
+                assert!((0.95..=1.05).contains(&avg), "β_m {bm} β_n {bn}: {avg}");
+            }
+        }
+        eprintln!("white furnace (uniform): worst |E − 1| = {worst:.4}");
+    }
+
+    /// The same with the BSDF's own sampling: within 1 %.
+    #[test]
+    fn white_furnace_sampled() {
+        let mut rng = Rng(0xdead_beef);
+        for bm in [0.1f32, 0.4, 0.7, 1.0] {
+            for bn in [0.1f32, 0.4, 0.7, 1.0] {
+                let wo = sample_uniform_sphere(rng.v2());
+                let n = 100_000;
+                let mut sum = 0.0f64;
+                for _ in 0..n {
+                    let h = -1.0 + 2.0 * rng.f();
+                    let bxdf = lossless(h, bm, bn);
+                    if let Some(s) = bxdf.sample_f(wo, rng.f(), rng.v2()) {
+                        sum += (s.f[0] * s.wi.z.abs() / s.pdf) as f64;
+                    }
+                }
+                let avg = sum / n as f64;
+                assert!((0.99..=1.01).contains(&avg), "β_m {bm} β_n {bn}: {avg}");
+            }
+        }
+    }
+
+    /// With σa = 0 the sampling is exact: every sample's weight
+    /// f |cos θi| / pdf is 1 (pbrt-v4's test), to within (0.99, 1.01).
+    #[test]
+    fn sampling_weights_are_one_when_lossless() {
+        let mut rng = Rng(42);
+        for bm in [0.1f32, 0.4, 0.7, 1.0] {
+            for bn in [0.1f32, 0.4, 0.7, 1.0] {
+                for _ in 0..2000 {
+                    let bxdf = lossless(-1.0 + 2.0 * rng.f(), bm, bn);
+                    let wo = sample_uniform_sphere(rng.v2());
+                    if let Some(s) = bxdf.sample_f(wo, rng.f(), rng.v2()) {
+                        let w = s.f[0] * s.wi.z.abs() / s.pdf;
+                        assert!(w > 0.99 && w < 1.01, "β_m {bm} β_n {bn}: weight {w}");
+                    }
+                }
+            }
+        }
+    }
+
+    /// Importance-sampled and uniform estimates of ∫ f |cos| agree with
+    /// absorption present (pbrt-v4's sampling-consistency test), and pdf()
+    /// matches the density sample_f reports.
+    #[test]
+    fn sampling_consistency_and_pdf() {
+        let mut rng = Rng(7);
+        let sigma_a = SampledSpectrum([0.25, 0.5, 1.0, 2.0]);
+        for bm in [0.2f32, 0.5, 0.9] {
+            for bn in [0.2f32, 0.5, 0.9] {
+                let wo = sample_uniform_sphere(rng.v2());
+                let n = 200_000;
+                let (mut importance, mut uniform) = (0.0f64, 0.0f64);
+                for _ in 0..n {
+                    let h = -1.0 + 2.0 * rng.f();
+                    let bxdf = HairBxDF::new(h, 1.55, sigma_a, bm, bn, 2.0);
+                    if let Some(s) = bxdf.sample_f(wo, rng.f(), rng.v2()) {
+                        importance += (s.f.average() * s.wi.z.abs() / s.pdf) as f64;
+                        let p = bxdf.pdf(wo, s.wi);
+                        assert!(
+                            (p - s.pdf).abs() <= 1e-3 * s.pdf.max(1.0),
+                            "pdf {p} vs {}",
+                            s.pdf
+                        );
+                    }
+                    let wi = sample_uniform_sphere(rng.v2());
+                    uniform += (bxdf.f(wo, wi).average() * wi.z.abs() / UNIFORM_SPHERE_PDF) as f64;
+                }
+                let (a, b) = (importance / n as f64, uniform / n as f64);
+                assert!((a - b).abs() / b < 0.05, "β_m {bm} β_n {bn}: {a} vs {b}");
+            }
+        }
+    }
+
+    /// Chi-square goodness of fit of sample_f against pdf() over a θ × φ
+    /// grid of the sphere.
+    #[test]
+    fn chi_square_sampling_matches_pdf() {
+        let mut rng = Rng(99);
+        let (n_theta, n_phi) = (16usize, 32usize);
+        for (bm, bn, h) in [(0.3f32, 0.3f32, 0.2f32), (0.6, 0.8, -0.7), (0.15, 0.4, 0.9)] {
+            let bxdf = HairBxDF::new(h, 1.55, SampledSpectrum([0.3, 0.5, 0.8, 1.2]), bm, bn, 2.0);
+            let wo = Vec3::new(0.3, 0.5, (1.0f32 - 0.09 - 0.25).sqrt());
+            let n = 400_000;
+            let mut observed = vec![0.0f64; n_theta * n_phi];
+            for _ in 0..n {
+                if let Some(s) = bxdf.sample_f(wo, rng.f(), rng.v2()) {
+                    let theta = s.wi.z.clamp(-1.0, 1.0).acos();
+                    let mut ph = s.wi.y.atan2(s.wi.x);
+                    if ph < 0.0 {
+                        ph += 2.0 * PI;
+                    }
+                    let ti = ((theta / PI) * n_theta as f32).min(n_theta as f32 - 1.0) as usize;
+                    let pi = ((ph / (2.0 * PI)) * n_phi as f32).min(n_phi as f32 - 1.0) as usize;
+                    observed[ti * n_phi + pi] += 1.0;
+                }
+            }
+            // Expected counts: integrate pdf over each cell (8×8 subcells).
+            let mut expected = vec![0.0f64; n_theta * n_phi];
+            let sub = 8;
+            for ti in 0..n_theta {
+                for pi in 0..n_phi {
+                    let mut acc = 0.0f64;
+                    for a in 0..sub {
+                        for b in 0..sub {
+                            let theta =
+                                (ti as f32 + (a as f32 + 0.5) / sub as f32) * PI / n_theta as f32;
+                            let ph = (pi as f32 + (b as f32 + 0.5) / sub as f32) * 2.0 * PI
+                                / n_phi as f32;
+                            let wi = Vec3::new(
+                                theta.sin() * ph.cos(),
+                                theta.sin() * ph.sin(),
+                                theta.cos(),
+                            );
+                            let d_omega =
+                                theta.sin() * (PI / n_theta as f32) * (2.0 * PI / n_phi as f32)
+                                    / (sub * sub) as f32;
+                            acc += (bxdf.pdf(wo, wi) * d_omega) as f64;
+                        }
+                    }
+                    expected[ti * n_phi + pi] = acc * n as f64;
+                }
+            }
+            // Pool cells with small expectations, then χ².
+            let (mut chi2, mut dof, mut pool_o, mut pool_e) = (0.0f64, 0i64, 0.0f64, 0.0f64);
+            for (o, e) in observed.iter().zip(&expected) {
+                if *e < 5.0 {
+                    pool_o += o;
+                    pool_e += e;
+                } else {
+                    chi2 += (o - e) * (o - e) / e;
+                    dof += 1;
+                }
+            }
+            if pool_e > 0.0 {
+                chi2 += (pool_o - pool_e) * (pool_o - pool_e) / pool_e;
+                dof += 1;
+            }
+            dof -= 1;
+            // Wilson–Hilferty: p < 1e-3 corresponds to z > 3.09.
+            let k = dof as f64;
+            let z =
+                ((chi2 / k).powf(1.0 / 3.0) - (1.0 - 2.0 / (9.0 * k))) / (2.0 / (9.0 * k)).sqrt();
+            assert!(
+                z < 3.09,
+                "β_m {bm} β_n {bn} h {h}: χ² = {chi2:.1} with {dof} dof (z = {z:.2})"
+            );
+        }
+    }
+
+    #[test]
+    fn extreme_h_and_angles_are_finite() {
+        for h in [-1.0f32, -0.999_999, 0.0, 0.999_999, 1.0] {
+            let b = HairBxDF::new(h, 1.55, SampledSpectrum::splat(0.5), 0.3, 0.3, 2.0);
+            for wo in [
+                Vec3::X,
+                -Vec3::X,
+                Vec3::new(0.999_999, 0.0, 0.001).normalize(),
+                Vec3::Z,
+                Vec3::Y,
+            ] {
+                for wi in [Vec3::X, -Vec3::Z, Vec3::new(0.3, 0.4, 0.866)] {
+                    let f = b.f(wo, wi);
+                    assert!(
+                        f.0.iter().all(|v| v.is_finite() && *v >= 0.0),
+                        "h {h} wo {wo} wi {wi}: {f:?}"
+                    );
+                    assert!(b.pdf(wo, wi).is_finite());
+                }
+                if let Some(s) = b.sample_f(wo, 0.5, Vec2::new(0.3, 0.7)) {
+                    assert!(
+                        s.f.0.iter().all(|v| v.is_finite())
+                            && s.pdf.is_finite()
+                            && s.wi.is_finite()
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn sigma_a_from_reflectance_inverts_to_darker_for_darker_colours() {
+        let s = HairBxDF::sigma_a_from_reflectance(SampledSpectrum([0.9, 0.5, 0.2, 0.05]), 0.3);
+        assert!(s[0] < s[1] && s[1] < s[2] && s[2] < s[3]);
+        let e = HairBxDF::sigma_a_from_concentration(1.3, 0.0);
+        assert!((e[0] - 1.3 * 0.419).abs() < 1e-6);
+    }
+}

@@ -1,0 +1,82 @@
+//! Cameras: film positions to rays in render space.
+//!
+//! Render space is pbrt-v4's default "cameraworld": world axes, origin at the
+//! camera, which keeps coordinates small where the rays are.
+
+pub mod perspective;
+pub mod transform;
+
+pub use perspective::PerspectiveCamera;
+pub use transform::CameraTransform;
+
+use crate::error::{scene_error, Result};
+use crate::math::Ray;
+use crate::scene::description;
+use crate::spectrum::SampledWavelengths;
+use glam::{IVec2, Vec2};
+
+/// Where on the film and lens, and when, a camera ray starts.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct CameraSample {
+    /// Position on the film in raster coordinates (pixels, y down).
+    pub p_film: Vec2,
+    /// Position on the lens, in [0,1)².
+    pub p_lens: Vec2,
+    /// Time in [0,1), mapped to the shutter interval.
+    pub time: f32,
+    /// The pixel filter's weight for this sample.
+    pub filter_weight: f32,
+}
+
+/// A camera ray and its weight.
+#[derive(Clone, Copy, Debug)]
+pub struct CameraRay {
+    pub ray: Ray,
+    pub weight: f32,
+}
+
+pub enum Camera {
+    Perspective(PerspectiveCamera),
+}
+
+impl Camera {
+    /// Creates the scene's camera for a film of `full_resolution`.
+    pub fn create(camera: &description::Camera, full_resolution: IVec2) -> Result<Camera> {
+        let entity = &camera.entity;
+        let transform = CameraTransform::new(&camera.camera_from_world);
+        match entity.kind.as_str() {
+            "perspective" => Ok(Camera::Perspective(PerspectiveCamera::create(
+                entity,
+                transform,
+                full_resolution,
+            )?)),
+            other => scene_error(
+                format!("camera \"{other}\" is not supported yet (supported: perspective)"),
+                &entity.location.0,
+            ),
+        }
+    }
+
+    pub fn generate_ray(
+        &self,
+        sample: &CameraSample,
+        _lambda: &SampledWavelengths,
+    ) -> Option<CameraRay> {
+        match self {
+            Camera::Perspective(c) => c.generate_ray(sample),
+        }
+    }
+
+    pub fn transform(&self) -> &CameraTransform {
+        match self {
+            Camera::Perspective(c) => &c.transform,
+        }
+    }
+
+    /// The shutter interval, [open, close].
+    pub fn shutter(&self) -> (f32, f32) {
+        match self {
+            Camera::Perspective(c) => (c.shutter_open, c.shutter_close),
+        }
+    }
+}

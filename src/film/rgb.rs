@@ -1,0 +1,160 @@
+//! pbrt-v4's `rgb` film with the `cie1931` sensor.
+//!
+//! | parameter | type | default | meaning |
+//! |---|---|---|---|
+//! | `xresolution`, `yresolution` | integer | 1280, 720 | full image size |
+//! | `cropwindow` | float[4] | 0 1 0 1 | x0 x1 y0 y1 fractions of the image to render |
+//! | `pixelbounds` | integer[4] | the whole image | x0 x1 y0 y1 pixels to render (cropwindow wins) |
+//! | `filename` | string | "pbrt.exr" | output (.exr, .png, .pfm) |
+//! | `savefp16` | bool | true | half-float EXR |
+//! | `iso` | float | 100 | sensitivity: imaging ratio = exposure time × iso / 100 |
+//! | `whitebalance` | float | 0 | white balance temperature (0: none) |
+//! | `sensor` | string | "cie1931" | sensor response |
+//! | `maxcomponentvalue` | float | ∞ | samples are scaled down so no RGB component exceeds it |
+//! | `diagonal` | float | 35 | film diagonal in mm (realistic camera only) |
+
+use crate::error::{scene_error, Result};
+use crate::scene::description::Entity;
+use crate::spectrum::color_space::RgbColorSpace;
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use glam::{IVec2, Mat3, Vec3};
+use std::path::PathBuf;
+
+/// One pixel's weighted sums (f64: millions of samples are summed).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Pixel {
+    pub rgb_sum: [f64; 3],
+    pub weight_sum: f64,
+}
+
+/// Film settings and the conversion from sampled radiance to output RGB.
+pub struct RgbFilm {
+    pub full_resolution: IVec2,
+    /// Pixels rendered: [min, max) in x and y.
+    pub pixel_bounds: (IVec2, IVec2),
+    pub filename: PathBuf,
+    pub save_fp16: bool,
+    /// exposure time × ISO / 100.
+    imaging_ratio: f32,
+    max_component_value: f32,
+    /// Sensor XYZ → output colour space RGB.
+    output_rgb_from_sensor: Mat3,
+}
+
+impl RgbFilm {
+    /// `exposure_time`: the camera's shutter interval. `outfile` overrides
+    /// the scene's file name (`--outfile`).
+    pub fn create(entity: &Entity, exposure_time: f32, outfile: Option<PathBuf>, base_directory: &std::path::Path) -> Result<Self> {
+        let p = &entity.params;
+        let loc = &entity.location.0;
+        if entity.kind != "rgb" {
+            return scene_error(
+                format!("film \"{}\" is not supported yet (supported: rgb)", entity.kind),
+                loc,
+            );
+        }
+        let xres = p.int("xresolution", 1280)?;
+        let yres = p.int("yresolution", 720)?;
+        if xres <= 0 || yres <= 0 {
+            return scene_error(format!("film resolution {xres}×{yres} must be positive"), loc);
+        }
+        let full = IVec2::new(xres, yres);
+        let mut bounds = (IVec2::ZERO, full);
+        let pb = p.ints("pixelbounds")?;
+        match pb.len() {
+            0 => {}
+            4 => {
+                bounds = (
+                    IVec2::new(pb[0], pb[2]).clamp(IVec2::ZERO, full),
+                    IVec2::new(pb[1], pb[3]).clamp(IVec2::ZERO, full),
+                )
+            }
+            n => return scene_error(format!("\"pixelbounds\" needs 4 values, not {n}"), loc),
+        }
+        let crop = p.floats("cropwindow")?;
+        match crop.len() {
+            0 => {}
+            4 => bounds = crop_to_bounds([crop[0], crop[1], crop[2], crop[3]], full),
+            n => return scene_error(format!("\"cropwindow\" needs 4 values, not {n}"), loc),
+        }
+        if bounds.1.x <= bounds.0.x || bounds.1.y <= bounds.0.y {
+            return scene_error("the film's pixel bounds are empty", loc);
+        }
+        let filename = outfile.unwrap_or_else(|| base_directory.join(p.string("filename", "pbrt.exr").unwrap_or_default()));
+        let save_fp16 = p.bool("savefp16", true)?;
+        let iso = p.float("iso", 100.0)? as f32;
+        let white_balance = p.float("whitebalance", 0.0)?;
+        let sensor = p.string("sensor", "cie1931")?;
+        let max_component_value = p.float("maxcomponentvalue", f64::INFINITY)? as f32;
+        p.float("diagonal", 35.0)?;
+        p.report_unused(|| "film \"rgb\"".into())?;
+        if sensor != "cie1931" {
+            return scene_error(format!("film sensor \"{sensor}\" is not supported yet (supported: cie1931)"), loc);
+        }
+        if white_balance != 0.0 {
+            return scene_error("film \"whitebalance\" is not supported yet", loc);
+        }
+        let color_space = RgbColorSpace::get(entity.color_space);
+        Ok(RgbFilm {
+            full_resolution: full,
+            pixel_bounds: bounds,
+            filename,
+            save_fp16,
+            imaging_ratio: exposure_time * iso / 100.0,
+            max_component_value,
+            output_rgb_from_sensor: color_space.rgb_from_xyz,
+        })
+    }
+
+    /// Replaces the pixel bounds (`--pixelbounds`, `--cropwindow`).
+    pub fn set_pixel_bounds(&mut self, bounds: (IVec2, IVec2)) {
+        self.pixel_bounds = (bounds.0.clamp(IVec2::ZERO, self.full_resolution), bounds.1.clamp(IVec2::ZERO, self.full_resolution));
+    }
+
+    pub fn crop_window_bounds(&self, crop: [f64; 4]) -> (IVec2, IVec2) {
+        crop_to_bounds(crop, self.full_resolution)
+    }
+
+    /// Radiance at the sampled wavelengths → sensor RGB (here CIE XYZ),
+    /// clamped by `maxcomponentvalue`.
+    pub fn sensor_rgb(&self, l: SampledSpectrum, lambda: &SampledWavelengths) -> Vec3 {
+        let mut rgb = self.imaging_ratio * l.to_xyz(lambda);
+        let m = rgb.max_element();
+        if m > self.max_component_value {
+            rgb *= self.max_component_value / m;
+        }
+        rgb
+    }
+
+    pub fn add_sample(&self, pixel: &mut Pixel, l: SampledSpectrum, lambda: &SampledWavelengths, weight: f32) {
+        let rgb = self.sensor_rgb(l, lambda);
+        for i in 0..3 {
+            pixel.rgb_sum[i] += (weight * rgb[i]) as f64;
+        }
+        pixel.weight_sum += weight as f64;
+    }
+
+    /// The output RGB of a pixel.
+    pub fn pixel_rgb(&self, pixel: &Pixel) -> Vec3 {
+        if pixel.weight_sum == 0.0 {
+            return Vec3::ZERO;
+        }
+        let sensor = Vec3::new(
+            (pixel.rgb_sum[0] / pixel.weight_sum) as f32,
+            (pixel.rgb_sum[1] / pixel.weight_sum) as f32,
+            (pixel.rgb_sum[2] / pixel.weight_sum) as f32,
+        );
+        self.output_rgb_from_sensor * sensor
+    }
+}
+
+/// pbrt's crop window → pixel bounds: ceil of the scaled window.
+fn crop_to_bounds(crop: [f64; 4], full: IVec2) -> (IVec2, IVec2) {
+    let c = |v: f64| v.clamp(0.0, 1.0);
+    let (x0, x1) = (c(crop[0].min(crop[1])), c(crop[0].max(crop[1])));
+    let (y0, y1) = (c(crop[2].min(crop[3])), c(crop[2].max(crop[3])));
+    (
+        IVec2::new((full.x as f64 * x0).ceil() as i32, (full.y as f64 * y0).ceil() as i32),
+        IVec2::new((full.x as f64 * x1).ceil() as i32, (full.y as f64 * y1).ceil() as i32),
+    )
+}

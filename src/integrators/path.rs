@@ -1,0 +1,154 @@
+//! pbrt-v4's `path` integrator (and `volpath` for scenes without media):
+//! unidirectional path tracing with next-event estimation and multiple
+//! importance sampling of lights and BSDFs, Russian roulette after the
+//! second bounce.
+
+use crate::bxdfs::{BxDFReflTransFlags, TransportMode, BSDF};
+use crate::interaction::SurfaceInteraction;
+use crate::lights::{Light, LightKind, LightSampleContext};
+use crate::math::sampling::power_heuristic;
+use crate::math::Ray;
+use crate::samplers::Sampler;
+use crate::scene::build::BuiltScene;
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+
+fn light_context(si: &SurfaceInteraction) -> LightSampleContext {
+    LightSampleContext { p: si.p, p_error: si.p_error, n: si.n, ns: si.shading.n, time: si.time }
+}
+
+/// Radiance arriving along `ray` at the path's wavelengths.
+pub fn path_li(scene: &BuiltScene, mut ray: Ray, lambda: &mut SampledWavelengths, sampler: &mut Sampler) -> SampledSpectrum {
+    let max_depth = scene.integrator.max_depth;
+    let regularize = scene.integrator.regularize;
+    let mut l = SampledSpectrum::ZERO;
+    let mut beta = SampledSpectrum::ONE;
+    let mut depth = 0;
+    let mut specular_bounce = false;
+    let mut any_non_specular = false;
+    let mut eta_scale = 1.0f32;
+    let mut p_b = 1.0f32;
+    let mut prev_ctx: Option<LightSampleContext> = None;
+    loop {
+        let Some((mut si, prim)) = scene.intersect(&ray, f32::INFINITY) else {
+            // Escaped: infinite lights.
+            for &i in &scene.infinite_lights {
+                let light = &scene.lights[i];
+                let le = light.le(&ray, lambda);
+                match (&prev_ctx, depth == 0 || specular_bounce) {
+                    (Some(ctx), false) => {
+                        let p_l = scene.light_sampler.pmf(ctx, i) * light.pdf_li(ctx, ray.direction, &scene.shapes, true);
+                        l += beta * le * power_heuristic(1.0, p_b, 1.0, p_l);
+                    }
+                    _ => l += beta * le,
+                }
+            }
+            break;
+        };
+        si.wo = -ray.direction.normalize();
+        // Emission of an area light that was hit.
+        if let Some(light_index) = prim.area_light {
+            if let Light::DiffuseArea(area) = &scene.lights[light_index as usize] {
+                let le = area.l(si.n, si.wo, lambda);
+                if le.is_nonzero() {
+                    match (&prev_ctx, depth == 0 || specular_bounce) {
+                        (Some(ctx), false) => {
+                            let light = &scene.lights[light_index as usize];
+                            let p_l = scene.light_sampler.pmf(ctx, light_index as usize)
+                                * light.pdf_li(ctx, ray.direction, &scene.shapes, true);
+                            l += beta * le * power_heuristic(1.0, p_b, 1.0, p_l);
+                        }
+                        _ => l += beta * le,
+                    }
+                }
+            }
+        }
+        let material = &scene.materials[prim.material as usize];
+        let Some(mut bsdf) = material.bsdf(&si, lambda) else {
+            // Interface: continue through the surface without counting a
+            // bounce.
+            specular_bounce = true;
+            ray = si.spawn_ray(ray.direction);
+            continue;
+        };
+        if regularize && any_non_specular {
+            bsdf.regularize();
+        }
+        if depth == max_depth {
+            break;
+        }
+        depth += 1;
+        let flags = bsdf.flags();
+        if flags.is_non_specular() {
+            let ld = sample_ld(scene, &si, &bsdf, lambda, sampler);
+            l += beta * ld;
+        }
+        prev_ctx = Some(light_context(&si));
+
+        let wo = si.wo;
+        let u = sampler.get_1d();
+        let Some(bs) = bsdf.sample_f(wo, u, sampler.get_2d(), TransportMode::Radiance, BxDFReflTransFlags::All) else {
+            break;
+        };
+        beta *= bs.f * (bs.wi.dot(si.shading.n).abs() / bs.pdf);
+        p_b = if bs.pdf_is_proportional {
+            bsdf.pdf(wo, bs.wi, TransportMode::Radiance, BxDFReflTransFlags::All)
+        } else {
+            bs.pdf
+        };
+        specular_bounce = bs.flags.is_specular();
+        any_non_specular |= !bs.flags.is_specular();
+        if bs.flags.is_transmission() {
+            eta_scale *= bs.eta * bs.eta;
+        }
+        ray = si.spawn_ray(bs.wi);
+
+        // Russian roulette.
+        let rr_beta = beta * eta_scale;
+        if rr_beta.max_component() < 1.0 && depth > 1 {
+            let q = (1.0 - rr_beta.max_component()).max(0.0);
+            if sampler.get_1d() < q {
+                break;
+            }
+            beta /= 1.0 - q;
+        }
+        if beta.is_zero() {
+            break;
+        }
+    }
+    l
+}
+
+/// Direct lighting at `si` from one sampled light, MIS-weighted against
+/// BSDF sampling.
+fn sample_ld(scene: &BuiltScene, si: &SurfaceInteraction, bsdf: &BSDF, lambda: &SampledWavelengths, sampler: &mut Sampler) -> SampledSpectrum {
+    let mut ctx = light_context(si);
+    let flags = bsdf.flags();
+    // Offset the reference point to the side light can arrive from.
+    if flags.is_reflective() && !flags.is_transmissive() {
+        ctx.p = crate::math::offset_ray_origin(si.p, si.p_error, si.n, si.wo);
+    } else if flags.is_transmissive() && !flags.is_reflective() {
+        ctx.p = crate::math::offset_ray_origin(si.p, si.p_error, si.n, -si.wo);
+    }
+    let u = sampler.get_1d();
+    let u_light = sampler.get_2d();
+    let Some((light_index, p_light)) = scene.light_sampler.sample(&ctx, u) else {
+        return SampledSpectrum::ZERO;
+    };
+    let light = &scene.lights[light_index];
+    let Some(ls) = light.sample_li(&ctx, u_light, lambda, &scene.shapes, true) else {
+        return SampledSpectrum::ZERO;
+    };
+    if ls.l.is_zero() || ls.pdf == 0.0 {
+        return SampledSpectrum::ZERO;
+    }
+    let f = bsdf.f(si.wo, ls.wi, TransportMode::Radiance) * ls.wi.dot(si.shading.n).abs();
+    if f.is_zero() || !scene.unoccluded(si, ls.p_light, ls.p_light_error, ls.n_light) {
+        return SampledSpectrum::ZERO;
+    }
+    let p_l = p_light * ls.pdf;
+    if matches!(light.kind(), LightKind::DeltaPosition | LightKind::DeltaDirection) {
+        return ls.l * f / p_l;
+    }
+    let p_b = bsdf.pdf(si.wo, ls.wi, TransportMode::Radiance, BxDFReflTransFlags::All);
+    ls.l * f * (power_heuristic(1.0, p_l, 1.0, p_b) / p_l)
+}

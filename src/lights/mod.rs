@@ -1,0 +1,133 @@
+//! Lights: emitters sampled for direct lighting and hit by escaping or
+//! surface-bound rays.
+
+pub mod create;
+pub mod diffuse_area;
+pub mod distant;
+pub mod point;
+pub mod sampler;
+pub mod spot;
+pub mod uniform_infinite;
+
+pub use create::{create_area_light, create_light};
+pub use diffuse_area::DiffuseAreaLight;
+pub use distant::DistantLight;
+pub use point::PointLight;
+pub use sampler::LightSampler;
+pub use spot::SpotLight;
+pub use uniform_infinite::UniformInfiniteLight;
+
+use crate::math::Ray;
+use crate::shapes::ShapeStorage;
+use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use glam::{Vec2, Vec3};
+
+/// The point being lit.
+#[derive(Clone, Copy, Debug)]
+pub struct LightSampleContext {
+    pub p: Vec3,
+    pub p_error: Vec3,
+    /// Geometric and shading normals (zero for points in media).
+    pub n: Vec3,
+    pub ns: Vec3,
+    pub time: f32,
+}
+
+/// A sampled direction towards a light.
+#[derive(Clone, Copy, Debug)]
+pub struct LightLiSample {
+    /// Incident radiance along −wi.
+    pub l: SampledSpectrum,
+    pub wi: Vec3,
+    /// Solid-angle density (1 for delta lights).
+    pub pdf: f32,
+    /// The point on the light (for the shadow ray), with its normal.
+    pub p_light: Vec3,
+    pub p_light_error: Vec3,
+    pub n_light: Vec3,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LightKind {
+    DeltaPosition,
+    DeltaDirection,
+    Area,
+    Infinite,
+}
+
+pub enum Light {
+    Point(PointLight),
+    Spot(SpotLight),
+    Distant(DistantLight),
+    UniformInfinite(UniformInfiniteLight),
+    DiffuseArea(DiffuseAreaLight),
+}
+
+impl Light {
+    pub fn kind(&self) -> LightKind {
+        match self {
+            Light::Point(_) | Light::Spot(_) => LightKind::DeltaPosition,
+            Light::Distant(_) => LightKind::DeltaDirection,
+            Light::UniformInfinite(_) => LightKind::Infinite,
+            Light::DiffuseArea(_) => LightKind::Area,
+        }
+    }
+
+    /// Samples incident light at `ctx`. `allow_incomplete_pdf`: the caller
+    /// also samples the BSDF with MIS, so a light may skip directions the
+    /// BSDF covers (pbrt-v4: uniform infinite lights then return nothing).
+    pub fn sample_li(
+        &self,
+        ctx: &LightSampleContext,
+        u: Vec2,
+        lambda: &SampledWavelengths,
+        shapes: &ShapeStorage,
+        allow_incomplete_pdf: bool,
+    ) -> Option<LightLiSample> {
+        match self {
+            Light::Point(l) => l.sample_li(ctx, lambda),
+            Light::Spot(l) => l.sample_li(ctx, lambda),
+            Light::Distant(l) => l.sample_li(ctx, lambda),
+            Light::UniformInfinite(l) => l.sample_li(ctx, u, lambda, allow_incomplete_pdf),
+            Light::DiffuseArea(l) => l.sample_li(ctx, u, lambda, shapes),
+        }
+    }
+
+    /// Solid-angle density with which `sample_li` picks `wi`.
+    pub fn pdf_li(&self, ctx: &LightSampleContext, wi: Vec3, shapes: &ShapeStorage, allow_incomplete_pdf: bool) -> f32 {
+        match self {
+            Light::Point(_) | Light::Spot(_) | Light::Distant(_) => 0.0,
+            Light::UniformInfinite(l) => l.pdf_li(allow_incomplete_pdf),
+            Light::DiffuseArea(l) => l.pdf_li(ctx, wi, shapes),
+        }
+    }
+
+    /// Radiance arriving along a ray that escapes the scene.
+    pub fn le(&self, _ray: &Ray, lambda: &SampledWavelengths) -> SampledSpectrum {
+        match self {
+            Light::UniformInfinite(l) => l.le(lambda),
+            _ => SampledSpectrum::ZERO,
+        }
+    }
+
+    /// Total emitted power (for the power light sampler).
+    pub fn phi(&self, lambda: &SampledWavelengths, shapes: &ShapeStorage) -> SampledSpectrum {
+        match self {
+            Light::Point(l) => l.phi(lambda),
+            Light::Spot(l) => l.phi(lambda),
+            Light::Distant(l) => l.phi(lambda),
+            Light::UniformInfinite(l) => l.phi(lambda),
+            Light::DiffuseArea(l) => l.phi(lambda, shapes),
+        }
+    }
+
+    /// Lets lights that depend on the scene's size (distant, infinite)
+    /// know it.
+    pub fn preprocess(&mut self, scene_center: Vec3, scene_radius: f32) {
+        match self {
+            Light::Distant(l) => l.preprocess(scene_center, scene_radius),
+            Light::UniformInfinite(l) => l.preprocess(scene_center, scene_radius),
+            _ => {}
+        }
+    }
+}

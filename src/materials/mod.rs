@@ -1,0 +1,222 @@
+//! Materials: textures and parameters → a BSDF at a surface point.
+//!
+//! | material | parameters (pbrt-v4 defaults) |
+//! |---|---|
+//! | `diffuse` | `reflectance` 0.5 |
+//! | `conductor` | `eta` metal-Cu-eta, `k` metal-Cu-k, or `reflectance`; `roughness` 0 (or `uroughness`/`vroughness`); `remaproughness` true |
+//! | `dielectric` | `eta` 1.5 (float or spectrum); `roughness` 0; `remaproughness` true |
+//! | `thindielectric` | `eta` 1.5 |
+//! | `coateddiffuse` | `reflectance` 0.5, `roughness` 0, `thickness` 0.01, `eta` 1.5, `albedo` 0, `g` 0, `maxdepth` 10, `nsamples` 1, `remaproughness` true |
+//! | `diffusetransmission` | `reflectance` 0.25, `transmittance` 0.25, `scale` 1 |
+//! | `interface` | none: marks a boundary between media; rays pass through |
+
+use crate::bxdfs::{
+    CoatedDiffuseBxDF, ConductorBxDF, DielectricBxDF, DiffuseBxDF, DiffuseTransmissionBxDF, ThinDielectricBxDF,
+    TrowbridgeReitzDistribution, BSDF, BxDF,
+};
+use crate::error::{scene_error, Result};
+use crate::interaction::SurfaceInteraction;
+use crate::math::Frame;
+use crate::scene::description::Entity;
+use crate::spectrum::color_space::SpectrumKind;
+use crate::spectrum::{named_spectrum, SampledSpectrum, SampledWavelengths, Spectrum};
+use crate::textures::{FloatTexture, NamedTextures, SpectrumTexture, TextureEvalContext, TextureParams};
+use std::path::Path;
+
+/// Roughness given as (u, v) textures, remapped to α or not.
+#[derive(Clone, Debug)]
+pub struct Roughness {
+    pub u: FloatTexture,
+    pub v: FloatTexture,
+    pub remap: bool,
+}
+
+impl Roughness {
+    fn read(tp: &TextureParams, prefix: &str, default: f32) -> Result<Self> {
+        let r = tp.float_texture_opt(&format!("{prefix}roughness"))?;
+        let u = tp.float_texture_opt(&format!("{prefix}uroughness"))?;
+        let v = tp.float_texture_opt(&format!("{prefix}vroughness"))?;
+        let base = r.unwrap_or(FloatTexture::Constant(default));
+        Ok(Roughness {
+            u: u.unwrap_or_else(|| base.clone()),
+            v: v.unwrap_or(base),
+            remap: tp.params.bool("remaproughness", true)?,
+        })
+    }
+
+    fn distribution(&self, ctx: &TextureEvalContext) -> TrowbridgeReitzDistribution {
+        let (mut u, mut v) = (self.u.evaluate(ctx), self.v.evaluate(ctx));
+        if self.remap {
+            u = TrowbridgeReitzDistribution::roughness_to_alpha(u);
+            v = TrowbridgeReitzDistribution::roughness_to_alpha(v);
+        }
+        TrowbridgeReitzDistribution::new(u, v)
+    }
+}
+
+/// An index of refraction: a constant or a spectrum.
+#[derive(Clone, Debug)]
+pub enum Eta {
+    Constant(f32),
+    Spectrum(Spectrum),
+}
+
+#[derive(Clone, Debug)]
+pub enum Material {
+    Interface,
+    Diffuse { reflectance: SpectrumTexture },
+    DiffuseTransmission { reflectance: SpectrumTexture, transmittance: SpectrumTexture, scale: f32 },
+    Conductor { eta: SpectrumTexture, k: SpectrumTexture, reflectance: Option<SpectrumTexture>, roughness: Roughness },
+    Dielectric { eta: Eta, roughness: Roughness },
+    ThinDielectric { eta: Eta },
+    CoatedDiffuse {
+        reflectance: SpectrumTexture,
+        albedo: SpectrumTexture,
+        roughness: Roughness,
+        thickness: FloatTexture,
+        g: FloatTexture,
+        eta: Eta,
+        max_depth: u32,
+        n_samples: u32,
+    },
+}
+
+fn eta_param(tp: &TextureParams, name: &str) -> Result<Eta> {
+    use pbrt_parser::ParamType;
+    if let Some(p) = tp.params.find(name, &[ParamType::Float, ParamType::Spectrum, ParamType::Rgb, ParamType::Blackbody, ParamType::Texture])? {
+        match p.ty {
+            ParamType::Float => return Ok(Eta::Constant(p.numbers().first().copied().unwrap_or(1.5) as f32)),
+            ParamType::Spectrum => {
+                if let Some(s) = crate::scene::spectrum_param::spectrum_param(tp.params, name, SpectrumKind::Unbounded, tp.color_space, tp.base_directory)? {
+                    // A constant spectrum is a constant index.
+                    if let Spectrum::Constant(c) = s {
+                        return Ok(Eta::Constant(c));
+                    }
+                    return Ok(Eta::Spectrum(s));
+                }
+            }
+            _ => return scene_error(format!("\"{} {name}\": the index of refraction must be a float or a spectrum", p.ty.name()), &p.location),
+        }
+    }
+    Ok(Eta::Constant(1.5))
+}
+
+impl Material {
+    pub fn create(entity: &Entity, textures: &NamedTextures, base_directory: &Path) -> Result<Material> {
+        let tp = TextureParams { params: &entity.params, color_space: entity.color_space, textures, base_directory };
+        let p = &entity.params;
+        let loc = &entity.location.0;
+        if p.find("displacement", &[pbrt_parser::ParamType::Float, pbrt_parser::ParamType::Texture])?.is_some() {
+            return scene_error("material \"displacement\" is not supported yet", loc);
+        }
+        if p.find("normalmap", &[pbrt_parser::ParamType::String])?.is_some() {
+            return scene_error("material \"normalmap\" is not supported yet", loc);
+        }
+        p.string("type", "")?;
+        let constant = |v: f32| Some(Spectrum::Constant(v));
+        let m = match entity.kind.as_str() {
+            "interface" | "" | "none" => Material::Interface,
+            "diffuse" => Material::Diffuse {
+                reflectance: tp.spectrum_texture("reflectance", constant(0.5), SpectrumKind::Albedo)?.expect("default given"),
+            },
+            "diffusetransmission" => Material::DiffuseTransmission {
+                reflectance: tp.spectrum_texture("reflectance", constant(0.25), SpectrumKind::Albedo)?.expect("default given"),
+                transmittance: tp.spectrum_texture("transmittance", constant(0.25), SpectrumKind::Albedo)?.expect("default given"),
+                scale: p.float("scale", 1.0)? as f32,
+            },
+            "conductor" => {
+                let reflectance = tp.spectrum_texture("reflectance", None, SpectrumKind::Albedo)?;
+                let eta = tp.spectrum_texture("eta", named_spectrum("metal-Cu-eta"), SpectrumKind::Unbounded)?;
+                let k = tp.spectrum_texture("k", named_spectrum("metal-Cu-k"), SpectrumKind::Unbounded)?;
+                let (Some(eta), Some(k)) = (eta, k) else {
+                    return scene_error("conductor: the default copper spectra are not available; give \"eta\" and \"k\" or \"reflectance\"", loc);
+                };
+                Material::Conductor { eta, k, reflectance, roughness: Roughness::read(&tp, "", 0.0)? }
+            }
+            "dielectric" => Material::Dielectric { eta: eta_param(&tp, "eta")?, roughness: Roughness::read(&tp, "", 0.0)? },
+            "thindielectric" => Material::ThinDielectric { eta: eta_param(&tp, "eta")? },
+            "coateddiffuse" => Material::CoatedDiffuse {
+                reflectance: tp.spectrum_texture("reflectance", constant(0.5), SpectrumKind::Albedo)?.expect("default given"),
+                albedo: tp.spectrum_texture("albedo", constant(0.0), SpectrumKind::Albedo)?.expect("default given"),
+                roughness: Roughness::read(&tp, "", 0.0)?,
+                thickness: tp.float_texture("thickness", 0.01)?,
+                g: tp.float_texture("g", 0.0)?,
+                eta: eta_param(&tp, "eta")?,
+                max_depth: p.int("maxdepth", 10)?.max(1) as u32,
+                n_samples: p.int("nsamples", 1)?.max(1) as u32,
+            },
+            other => return scene_error(format!("material \"{other}\" is not supported yet"), loc),
+        };
+        p.report_unused(|| format!("material \"{}\"", entity.kind))?;
+        Ok(m)
+    }
+
+    /// The BSDF at `si`; `None` for `interface` (the ray continues).
+    /// Dispersive materials terminate the secondary wavelengths.
+    pub fn bsdf(&self, si: &SurfaceInteraction, lambda: &mut SampledWavelengths) -> Option<BSDF> {
+        let ctx = TextureEvalContext { uv: si.uv };
+        let clamp01 = |s: SampledSpectrum| s.map(|v| v.clamp(0.0, 1.0));
+        let bxdf = match self {
+            Material::Interface => return None,
+            Material::Diffuse { reflectance } => BxDF::Diffuse(DiffuseBxDF::new(clamp01(reflectance.evaluate(&ctx, lambda)))),
+            Material::DiffuseTransmission { reflectance, transmittance, scale } => BxDF::DiffuseTransmission(DiffuseTransmissionBxDF::new(
+                clamp01(reflectance.evaluate(&ctx, lambda) * *scale),
+                clamp01(transmittance.evaluate(&ctx, lambda) * *scale),
+            )),
+            Material::Conductor { eta, k, reflectance, roughness } => {
+                let distrib = roughness.distribution(&ctx);
+                let (etas, ks) = match reflectance {
+                    // pbrt-v4: a reflectance r gives η = 1, k = 2√r / √(1 − r).
+                    Some(r) => {
+                        let r = r.evaluate(&ctx, lambda).map(|v| v.clamp(0.0, 0.9999));
+                        (SampledSpectrum::ONE, (r.sqrt() * 2.0) / (SampledSpectrum::ONE - r).sqrt())
+                    }
+                    None => (eta.evaluate(&ctx, lambda), k.evaluate(&ctx, lambda)),
+                };
+                BxDF::Conductor(ConductorBxDF::new(distrib, etas, ks))
+            }
+            Material::Dielectric { eta, roughness } => {
+                let e = eval_eta(eta, lambda);
+                BxDF::Dielectric(DielectricBxDF::new(e, roughness.distribution(&ctx)))
+            }
+            Material::ThinDielectric { eta } => BxDF::ThinDielectric(ThinDielectricBxDF::new(eval_eta(eta, lambda))),
+            Material::CoatedDiffuse { reflectance, albedo, roughness, thickness, g, eta, max_depth, n_samples } => {
+                let e = eval_eta(eta, lambda);
+                BxDF::CoatedDiffuse(CoatedDiffuseBxDF::new(
+                    DielectricBxDF::new(e, roughness.distribution(&ctx)),
+                    DiffuseBxDF::new(clamp01(reflectance.evaluate(&ctx, lambda))),
+                    thickness.evaluate(&ctx).max(f32::MIN_POSITIVE),
+                    clamp01(albedo.evaluate(&ctx, lambda)),
+                    g.evaluate(&ctx),
+                    *max_depth,
+                    *n_samples,
+                ))
+            }
+        };
+        Some(BSDF::new(bxdf, shading_frame(si)))
+    }
+}
+
+/// The local shading frame: z along the shading normal, x along ∂p/∂u made
+/// orthogonal to it (any tangent when ∂p/∂u is degenerate).
+fn shading_frame(si: &SurfaceInteraction) -> Frame {
+    let n = si.shading.n;
+    let x = si.shading.dpdu - n * n.dot(si.shading.dpdu);
+    match x.try_normalize() {
+        Some(x) => Frame::from_xz(x, n),
+        None => Frame::from_z(n),
+    }
+}
+
+/// η at the path's first wavelength; a wavelength-dependent η terminates
+/// the others (they would refract elsewhere).
+fn eval_eta(eta: &Eta, lambda: &mut SampledWavelengths) -> f32 {
+    match eta {
+        Eta::Constant(e) => *e,
+        Eta::Spectrum(s) => {
+            let e = s.eval(lambda.lambda[0]);
+            lambda.terminate_secondary();
+            e
+        }
+    }
+}

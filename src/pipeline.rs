@@ -1,0 +1,95 @@
+//! From a scene file to an image file: load, build, render, write.
+
+use crate::cameras::CameraSample;
+use crate::error::{Error, Result};
+use crate::image::Image;
+use crate::integrators::path_li;
+use crate::render::{interrupt_flag, render};
+use crate::scene::build::{build, RenderOverrides};
+use crate::spectrum::SampledWavelengths;
+use glam::Vec2;
+use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicU64, Ordering};
+use std::time::{Duration, Instant};
+
+/// How a render went.
+pub struct RenderReport {
+    pub output: PathBuf,
+    pub resolution: (u32, u32),
+    pub spp_requested: u32,
+    pub spp_completed: u32,
+    pub interrupted: bool,
+    pub parse_and_build: Duration,
+    pub render: Duration,
+    /// Samples whose radiance was NaN or infinite (set to 0, as pbrt-v4).
+    pub bad_samples: u64,
+    pub warnings: Vec<String>,
+}
+
+/// Renders `path` with `threads` threads and writes the image.
+pub fn render_file(path: &Path, overrides: &RenderOverrides, threads: usize, show_progress: bool) -> Result<RenderReport> {
+    let start = Instant::now();
+    let loaded = crate::scene::load(path)?;
+    let built = build(&loaded.scene, overrides)?;
+    let mut warnings: Vec<String> = loaded.warnings.iter().map(|w| w.to_string()).collect();
+    warnings.extend(built.warnings.iter().map(|w| w.to_string()));
+    let parse_and_build = start.elapsed();
+
+    let film = &built.film;
+    let spp = built.sampler.samples_per_pixel();
+    let bad = AtomicU64::new(0);
+    let disable_jitter = loaded.scene.options.disable_wavelength_jitter;
+    let outcome = render(
+        film.pixel_bounds,
+        spp,
+        threads,
+        show_progress,
+        interrupt_flag(),
+        || built.sampler.clone(),
+        |sampler, pixel, index, acc| {
+            sampler.start_pixel_sample(pixel, index, 0);
+            let lu = if disable_jitter { 0.5 } else { sampler.get_1d() };
+            let mut lambda = SampledWavelengths::sample_visible(lu);
+            let fs = built.filter.sample(sampler.get_pixel_2d());
+            let sample = CameraSample {
+                p_film: pixel.as_vec2() + Vec2::splat(0.5) + fs.p,
+                time: sampler.get_1d(),
+                p_lens: sampler.get_2d(),
+                filter_weight: fs.weight,
+            };
+            let Some(camera_ray) = built.camera.generate_ray(&sample, &lambda) else {
+                return;
+            };
+            let mut l = path_li(&built, camera_ray.ray, &mut lambda, sampler) * camera_ray.weight;
+            if l.has_nan() || l.0.iter().any(|v| v.is_infinite()) {
+                bad.fetch_add(1, Ordering::Relaxed);
+                l = crate::spectrum::SampledSpectrum::ZERO;
+            }
+            film.add_sample(acc, l, &lambda, sample.filter_weight);
+        },
+    )
+    .map_err(|e| Error::Io { path: "<thread pool>".into(), source: std::io::Error::other(e) })?;
+
+    let (lo, hi) = film.pixel_bounds;
+    let (w, h) = ((hi.x - lo.x) as u32, (hi.y - lo.y) as u32);
+    let mut data = Vec::with_capacity((w * h * 3) as usize);
+    for p in &outcome.pixels {
+        let rgb = film.pixel_rgb(p);
+        data.extend_from_slice(&[rgb.x, rgb.y, rgb.z]);
+    }
+    let image = Image::from_rgb(w, h, data);
+    image
+        .write_with(&film.filename, film.save_fp16)
+        .map_err(|e| Error::Io { path: film.filename.display().to_string(), source: std::io::Error::other(e.to_string()) })?;
+    Ok(RenderReport {
+        output: film.filename.clone(),
+        resolution: (w, h),
+        spp_requested: spp,
+        spp_completed: outcome.samples_completed,
+        interrupted: outcome.interrupted,
+        parse_and_build,
+        render: outcome.elapsed,
+        bad_samples: bad.into_inner(),
+        warnings,
+    })
+}

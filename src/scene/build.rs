@@ -1,0 +1,289 @@
+//! Scene description → built scene: textures, materials, shapes and their
+//! BVH, lights and the light sampler, camera, film, sampler, filter.
+//! The built scene is immutable and shared by all render threads.
+
+use super::description::{MaterialRef, SceneDescription, TextureValue};
+use crate::accel::Bvh;
+use crate::cameras::Camera;
+use crate::error::{scene_error, Result};
+use crate::film::RgbFilm;
+use crate::filters::Filter;
+use crate::interaction::SurfaceInteraction;
+use crate::lights::{self, DiffuseAreaLight, Light, LightSampler};
+use crate::materials::Material;
+use crate::math::{offset_ray_origin, Bounds3, Ray};
+use crate::samplers::Sampler;
+use crate::shapes::{create_shapes, ShapeStorage};
+use crate::spectrum::color_space::SpectrumKind;
+use crate::textures::{create_texture, NamedTextures};
+use glam::{IVec2, Vec3};
+use pbrt_parser::Warning;
+use std::collections::HashMap;
+use std::path::PathBuf;
+
+/// Command-line settings that override the scene's.
+#[derive(Clone, Debug, Default)]
+pub struct RenderOverrides {
+    pub spp: Option<u32>,
+    pub seed: Option<i32>,
+    pub outfile: Option<PathBuf>,
+    pub crop_window: Option<[f64; 4]>,
+    pub pixel_bounds: Option<[i32; 4]>,
+    /// `--quick`: a quarter of the resolution in each axis, 1 spp... as pbrt
+    /// (pbrt-v4: resolution / 4, spp 1? — here: resolution / 4 and spp / 16).
+    pub quick: bool,
+}
+
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum IntegratorKind {
+    Path,
+    VolPath,
+}
+
+/// Integrator settings (pbrt-v4 `Integrator` parameters).
+#[derive(Clone, Copy, Debug)]
+pub struct IntegratorSettings {
+    pub kind: IntegratorKind,
+    pub max_depth: i32,
+    pub regularize: bool,
+}
+
+/// A shape with its material and emission.
+#[derive(Clone, Copy, Debug)]
+pub struct Primitive {
+    pub shape: u32,
+    /// Index into [`BuiltScene::materials`].
+    pub material: u32,
+    /// Index into [`BuiltScene::lights`] of its area light.
+    pub area_light: Option<u32>,
+}
+
+pub struct BuiltScene {
+    pub camera: Camera,
+    pub film: RgbFilm,
+    pub sampler: Sampler,
+    pub filter: Filter,
+    pub integrator: IntegratorSettings,
+    pub shapes: ShapeStorage,
+    /// In BVH order.
+    pub primitives: Vec<Primitive>,
+    pub bvh: Bvh,
+    pub materials: Vec<Material>,
+    pub lights: Vec<Light>,
+    pub infinite_lights: Vec<usize>,
+    pub light_sampler: LightSampler,
+    pub warnings: Vec<Warning>,
+}
+
+impl BuiltScene {
+    /// The closest surface hit by `ray` before `t_max`.
+    pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<(SurfaceInteraction, Primitive)> {
+        let mut best = None;
+        self.bvh.closest_hit(ray, t_max, |i, t_max| {
+            let prim = self.primitives[i];
+            let hit = self.shapes.shape(prim.shape).intersect(&self.shapes, ray, t_max)?;
+            let t = hit.t_hit;
+            best = Some((hit.interaction, prim));
+            Some(t)
+        })?;
+        best.map(|(mut si, prim): (SurfaceInteraction, Primitive)| {
+            si.primitive = prim.shape;
+            (si, prim)
+        })
+    }
+
+    /// Whether anything lies on `ray` before `t_max`.
+    pub fn intersect_p(&self, ray: &Ray, t_max: f32) -> bool {
+        self.bvh.any_hit(ray, t_max, |i, t_max| {
+            self.shapes.shape(self.primitives[i].shape).intersect_p(&self.shapes, ray, t_max)
+        })
+    }
+
+    /// Whether the segment between a surface point and a light point is
+    /// clear (both ends offset off their surfaces).
+    pub fn unoccluded(&self, from: &SurfaceInteraction, p_to: Vec3, p_to_error: Vec3, n_to: Vec3) -> bool {
+        let origin = offset_ray_origin(from.p, from.p_error, from.n, p_to - from.p);
+        let target = if n_to == Vec3::ZERO { p_to } else { offset_ray_origin(p_to, p_to_error, n_to, origin - p_to) };
+        let d = target - origin;
+        !self.intersect_p(&Ray::new(origin, d, from.time), 1.0 - 1e-4)
+    }
+}
+
+/// Builds the scene (warnings are collected in the result).
+pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<BuiltScene> {
+    let mut warnings = Vec::new();
+    let base = &scene.base_directory;
+
+    if let Some(m) = scene.media.first() {
+        return scene_error("participating media are not supported yet", &m.entity.location.0);
+    }
+    if let Some(i) = scene.instances.first() {
+        return scene_error("object instancing is not supported yet", &i.location.0);
+    }
+    if scene.camera.camera_from_world.is_animated() {
+        return scene_error("an animated camera (motion blur) is not supported yet", &scene.camera.entity.location.0);
+    }
+
+    // Camera exposure time, film, camera.
+    let cam_params = &scene.camera.entity.params;
+    let exposure = (cam_params.float("shutterclose", 1.0)? - cam_params.float("shutteropen", 0.0)?).abs() as f32;
+    let mut film = RgbFilm::create(&scene.film, exposure, overrides.outfile.clone(), base)?;
+    if overrides.quick {
+        film.full_resolution = (film.full_resolution / 4).max(IVec2::ONE);
+        film.set_pixel_bounds((IVec2::ZERO, film.full_resolution));
+    }
+    if let Some([x0, x1, y0, y1]) = overrides.pixel_bounds {
+        film.set_pixel_bounds((IVec2::new(x0, y0), IVec2::new(x1, y1)));
+    }
+    if let Some(c) = overrides.crop_window {
+        let b = film.crop_window_bounds(c);
+        film.set_pixel_bounds(b);
+    }
+    let camera = Camera::create(&scene.camera, film.full_resolution)?;
+    let render_from_world = camera.transform().render_from_world;
+
+    let seed = overrides.seed.unwrap_or(scene.options.seed);
+    let spp = if overrides.quick { Some(overrides.spp.unwrap_or(16).div_ceil(16).max(1)) } else { overrides.spp };
+    let sampler = Sampler::create(&scene.sampler, seed, film.full_resolution, spp)?;
+    let filter = Filter::create(&scene.filter)?;
+    let integrator = integrator_settings(scene)?;
+
+    // Textures, in file order.
+    let mut textures = NamedTextures::default();
+    for t in &scene.textures {
+        match t.value {
+            TextureValue::Float => {
+                if let Some((Some(f), _)) = create_texture(&t.entity, t.value, &textures, base, SpectrumKind::Albedo)? {
+                    textures.float.insert(t.name.clone(), f);
+                }
+            }
+            TextureValue::Spectrum => {
+                for (key, kind) in [(0u8, SpectrumKind::Albedo), (1, SpectrumKind::Unbounded), (2, SpectrumKind::Illuminant)] {
+                    if let Some((_, Some(s))) = create_texture(&t.entity, t.value, &textures, base, kind)? {
+                        textures.spectrum.insert((t.name.clone(), key), s);
+                    }
+                }
+            }
+        }
+    }
+
+    // Materials: anonymous ones by index, then named ones.
+    let mut materials = Vec::new();
+    for m in &scene.materials {
+        materials.push(Material::create(m, &textures, base)?);
+    }
+    let mut named_index = HashMap::new();
+    for (name, m) in &scene.named_materials {
+        named_index.insert(name.as_str(), materials.len() as u32);
+        materials.push(Material::create(m, &textures, base)?);
+    }
+
+    // Shapes, their primitives and area lights.
+    let mut shapes = ShapeStorage::default();
+    let mut primitives = Vec::new();
+    let mut lights: Vec<Light> = Vec::new();
+    for shape in &scene.shapes {
+        let loc = &shape.entity.location.0;
+        let transform = scene.transform(shape.world_from_object);
+        if transform.is_animated() {
+            return scene_error("animated shapes (motion blur) are not supported yet", loc);
+        }
+        if !shape.inside_medium.is_empty() || !shape.outside_medium.is_empty() {
+            return scene_error("participating media are not supported yet", loc);
+        }
+        let render_from_object = render_from_world.then(&transform.start);
+        let material = match &shape.material {
+            MaterialRef::Anonymous(i) => *i as u32,
+            MaterialRef::Named(name) => match named_index.get(name.as_str()) {
+                Some(&i) => i,
+                None => return scene_error(format!("named material \"{name}\" is not defined"), loc),
+            },
+        };
+        let created = create_shapes(shape, &render_from_object, shape.reverse_orientation, base, &mut shapes)?;
+        let area = match shape.area_light {
+            Some(a) if matches!(materials[material as usize], Material::Interface) => {
+                warnings.push(Warning {
+                    message: "area light on a shape with the \"interface\" material is ignored (as in pbrt-v4)".into(),
+                    location: loc.clone(),
+                });
+                let _ = a;
+                None
+            }
+            Some(a) => Some(&scene.area_lights[a]),
+            None => None,
+        };
+        for shape_index in created {
+            let area_light = match area {
+                Some(entity) => {
+                    let light = lights::create_area_light(entity, shape_index, &shapes, base)?;
+                    lights.push(Light::DiffuseArea(light));
+                    Some(lights.len() as u32 - 1)
+                }
+                None => None,
+            };
+            primitives.push(Primitive { shape: shape_index, material, area_light });
+        }
+    }
+    for light in &scene.lights {
+        lights.push(lights::create_light(light, &render_from_world, base)?);
+    }
+
+    // The BVH, and primitives in its order.
+    let bounds: Vec<Bounds3> = primitives.iter().map(|p| shapes.shape(p.shape).bounds(&shapes)).collect();
+    let (bvh, order) = Bvh::build(&bounds);
+    let primitives: Vec<Primitive> = order.iter().map(|&i| primitives[i as usize]).collect();
+    let (center, radius) = bvh.bounds().bounding_sphere();
+    for l in &mut lights {
+        l.preprocess(center, radius);
+    }
+    let infinite_lights = lights
+        .iter()
+        .enumerate()
+        .filter(|(_, l)| l.kind() == lights::LightKind::Infinite)
+        .map(|(i, _)| i)
+        .collect();
+    let light_sampler = match scene.integrator.params.string("lightsampler", "bvh")?.as_str() {
+        "uniform" => LightSampler::uniform(lights.len()),
+        "power" | "bvh" => LightSampler::power(&lights, &shapes),
+        other => {
+            return scene_error(
+                format!("light sampler \"{other}\" unknown (expected uniform, power or bvh)"),
+                &scene.integrator.location.0,
+            )
+        }
+    };
+    Ok(BuiltScene {
+        camera,
+        film,
+        sampler,
+        filter,
+        integrator,
+        shapes,
+        primitives,
+        bvh,
+        materials,
+        lights,
+        infinite_lights,
+        light_sampler,
+        warnings,
+    })
+}
+
+fn integrator_settings(scene: &SceneDescription) -> Result<IntegratorSettings> {
+    let e = &scene.integrator;
+    let kind = match e.kind.as_str() {
+        "path" => IntegratorKind::Path,
+        "volpath" => IntegratorKind::VolPath,
+        other => {
+            return scene_error(
+                format!("integrator \"{other}\" is not supported yet (supported: path, volpath)"),
+                &e.location.0,
+            )
+        }
+    };
+    let max_depth = e.params.int("maxdepth", 5)?;
+    let regularize = e.params.bool("regularize", false)?;
+    e.params.string("lightsampler", "bvh")?;
+    e.params.report_unused(|| format!("integrator \"{}\"", e.kind))?;
+    Ok(IntegratorSettings { kind, max_depth, regularize })
+}

@@ -1,0 +1,77 @@
+//! Renders the non-hair scenes of `../shared/refs/` and compares them with
+//! pbrt-v4's references as `../shared/refs/README.md` defines: at N spp,
+//! MRSE(rpbrt) ≤ 1.25 × MRSE(pbrt) and block bias(rpbrt) ≤ max(2 × block
+//! bias(pbrt), 0.01), pbrt's figures computed here from its own N-spp
+//! render. Skipped, with a message, when `../shared` is absent.
+
+mod common;
+
+use rpbrt::image::Image;
+use rpbrt::scene::build::RenderOverrides;
+use rpbrt::tools::imgdiff::{block_bias, mrse};
+use std::path::Path;
+
+struct Comparison {
+    mrse: f64,
+    block_bias: f64,
+}
+
+fn compare(image: &Image, reference: &Image) -> Comparison {
+    let (w, h) = (reference.width as usize, reference.height as usize);
+    let x = image.rgb_data();
+    let r = reference.rgb_data();
+    Comparison {
+        mrse: mrse(&x, &r),
+        block_bias: block_bias(&x, &r, w, h, 3, 16),
+    }
+}
+
+fn check_scene(shared: &Path, name: &str, spp: u32) {
+    let refs = shared.join("refs");
+    let reference = Image::read(&refs.join(format!("{name}-ref.exr"))).expect("reference image");
+    let pbrt = Image::read(&refs.join(format!("{name}-{spp}.exr"))).expect("pbrt render");
+    let pbrt_cmp = compare(&pbrt, &reference);
+
+    let out =
+        std::env::temp_dir().join(format!("rpbrt-ref-{name}-{spp}-{}.exr", std::process::id()));
+    let overrides = RenderOverrides {
+        spp: Some(spp),
+        seed: Some(7),
+        outfile: Some(out.clone()),
+        ..Default::default()
+    };
+    let scene = shared.join("scenes/derived").join(format!("{name}.pbrt"));
+    let report = rpbrt::pipeline::render_file(&scene, &overrides, 2, false).expect("render");
+    let ours = Image::read(&out).expect("our render");
+    std::fs::remove_file(&out).ok();
+    let our_cmp = compare(&ours, &reference);
+    eprintln!(
+        "{name} @ {spp} spp: rpbrt MRSE {:.5} block bias {:.4} ({:.2} s render) | pbrt MRSE {:.5} block bias {:.4}",
+        our_cmp.mrse,
+        our_cmp.block_bias,
+        report.render.as_secs_f64(),
+        pbrt_cmp.mrse,
+        pbrt_cmp.block_bias
+    );
+    assert_eq!(report.bad_samples, 0, "NaN/Inf samples");
+    assert!(
+        our_cmp.mrse <= 1.25 * pbrt_cmp.mrse,
+        "{name}: MRSE {} > 1.25 × pbrt's {}",
+        our_cmp.mrse,
+        pbrt_cmp.mrse
+    );
+    let bound = (2.0 * pbrt_cmp.block_bias).max(0.01);
+    assert!(
+        our_cmp.block_bias <= bound,
+        "{name}: block bias {} > {bound}",
+        our_cmp.block_bias
+    );
+}
+
+#[test]
+fn cornell_box_matches_pbrt_v4() {
+    let Some(shared) = common::shared_dir() else {
+        return;
+    };
+    check_scene(&shared, "cornell-box-256", 64);
+}
