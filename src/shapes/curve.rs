@@ -1,0 +1,583 @@
+//! pbrt-v4's `curve` shape (alias `bcurve`): cubic Bézier segments drawn as
+//! a ribbon of varying width that faces the ray (`flat`), the same with a
+//! normal that turns across the width to look round (`cylinder`, for hair),
+//! or a ribbon oriented by given normals (`ribbon`).
+//!
+//! | parameter | type | default | meaning |
+//! |---|---|---|---|
+//! | `P` | point3[] | — | control points |
+//! | `basis` | string | "bezier" | `bezier` or `bspline` |
+//! | `degree` | integer | 3 | 2 or 3 (quadratic segments are elevated to cubic) |
+//! | `type` | string | "flat" | `flat`, `cylinder` or `ribbon` |
+//! | `N` | normal[] | — | ribbon orientation, one per segment end (required for `ribbon`) |
+//! | `width` | float | 1 | width at both ends |
+//! | `width0`, `width1` | float | `width` | width at the start and end of the whole curve |
+//! | `splitdepth` | integer | 3 | each segment is split into 2^splitdepth pieces for the BVH |
+//!
+//! **Intersection.** pbrt-v4 subdivides each piece recursively per ray (up
+//! to 2¹⁰ times) until the piece is nearly straight, then intersects its
+//! chord. Here the subdivision is done once, at build time: each segment
+//! is split into at least 2^splitdepth pieces, and further until the
+//! control polygon of every piece deviates from its chord by less than a
+//! small fraction of the width, so each BVH leaf is tight and has one
+//! closest point. Per ray, the piece is projected into a frame along the
+//! ray and the parameter of the curve point closest to the ray is found by
+//! Newton's method on ⟨c(w), c′(w)⟩ = 0 from the chord's estimate. The hit
+//! then follows pbrt's definition exactly: inside if that point is within
+//! half the width of the ray, t from its depth, v from the signed distance.
+
+use crate::error::{scene_error, Result};
+use crate::interaction::SurfaceInteraction;
+use crate::math::{Bounds3, Ray, Transform};
+use crate::scene::description;
+use glam::{DVec3, Vec3};
+
+/// How the curve surface is oriented.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum CurveType {
+    Flat,
+    Cylinder,
+    Ribbon,
+}
+
+/// One cubic Bézier segment of a curve, in render space.
+#[derive(Clone, Debug)]
+pub struct CurveSegment {
+    pub cp: [Vec3; 4],
+    /// Width at u = 0 and u = 1 of this segment.
+    pub width: [f32; 2],
+    pub kind: CurveType,
+    /// Ribbon normals at u = 0 and 1 (unit), and the angle between them.
+    pub normals: [Vec3; 2],
+    normal_angle: f32,
+    inv_sin_normal_angle: f32,
+    /// Flip the normal (reverse orientation XOR a handedness-swapping
+    /// transform).
+    pub flip_normal: bool,
+}
+
+/// A piece [u0, u1] of a segment: the BVH primitive.
+#[derive(Clone, Copy, Debug)]
+pub struct CurvePiece {
+    /// Index of the segment in the scene's curve segments.
+    pub segment: u32,
+    pub u0: f32,
+    pub u1: f32,
+    /// The piece's own Bézier control points (blossomed).
+    pub cp: [Vec3; 4],
+}
+
+fn lerp3(t: f32, a: Vec3, b: Vec3) -> Vec3 {
+    a + (b - a) * t
+}
+
+/// Point and derivative of a cubic Bézier at u (de Casteljau).
+pub fn evaluate_bezier(cp: &[Vec3; 4], u: f32) -> (Vec3, Vec3) {
+    let a = [lerp3(u, cp[0], cp[1]), lerp3(u, cp[1], cp[2]), lerp3(u, cp[2], cp[3])];
+    let b = [lerp3(u, a[0], a[1]), lerp3(u, a[1], a[2])];
+    let deriv = if (b[1] - b[0]).length_squared() > 0.0 {
+        3.0 * (b[1] - b[0])
+    } else {
+        // A degenerate end (repeated control points): use the chord.
+        cp[3] - cp[0]
+    };
+    (lerp3(u, b[0], b[1]), deriv)
+}
+
+/// The control points of the sub-curve over [u0, u1] (blossoming).
+pub fn blossom_piece(cp: &[Vec3; 4], u0: f32, u1: f32) -> [Vec3; 4] {
+    let blossom = |u: [f32; 3]| {
+        let a = [lerp3(u[0], cp[0], cp[1]), lerp3(u[0], cp[1], cp[2]), lerp3(u[0], cp[2], cp[3])];
+        let b = [lerp3(u[1], a[0], a[1]), lerp3(u[1], a[1], a[2])];
+        lerp3(u[2], b[0], b[1])
+    };
+    [blossom([u0, u0, u0]), blossom([u0, u0, u1]), blossom([u0, u1, u1]), blossom([u1, u1, u1])]
+}
+
+impl CurveSegment {
+    pub fn width_at(&self, u: f32) -> f32 {
+        self.width[0] + (self.width[1] - self.width[0]) * u
+    }
+
+    /// The ribbon normal at u (spherical interpolation, as pbrt).
+    fn ribbon_normal(&self, u: f32) -> Vec3 {
+        if self.normal_angle == 0.0 {
+            return self.normals[0];
+        }
+        let sin0 = ((1.0 - u) * self.normal_angle).sin() * self.inv_sin_normal_angle;
+        let sin1 = (u * self.normal_angle).sin() * self.inv_sin_normal_angle;
+        sin0 * self.normals[0] + sin1 * self.normals[1]
+    }
+}
+
+impl CurvePiece {
+    /// Bounds: the control points' box grown by half the largest width.
+    pub fn bounds(&self, segment: &CurveSegment) -> Bounds3 {
+        let w = segment.width_at(self.u0).max(segment.width_at(self.u1)) * 0.5;
+        let b = Bounds3::from_points(self.cp);
+        Bounds3 { min: b.min - Vec3::splat(w), max: b.max + Vec3::splat(w) }
+    }
+
+    /// The hit of `ray` with this piece before `t_max`: (t, u, v, hit
+    /// width, ribbon normal), u in the segment's parameter.
+    pub fn intersect(&self, segment: &CurveSegment, ray: &Ray, t_max: f32) -> Option<CurveHit> {
+        let ray_length = ray.direction.length();
+        if ray_length == 0.0 {
+            return None;
+        }
+        let dz = ray.direction / ray_length;
+        // A frame along the ray: (ex, ey, dz) right-handed, as pbrt's LookAt
+        // (the in-plane rotation does not matter; the handedness fixes the
+        // sign of v).
+        let (ex, ey) = crate::math::frame::coordinate_system(dz);
+        let to_ray = |p: Vec3| {
+            let q = p - ray.origin;
+            Vec3::new(q.dot(ex), q.dot(ey), q.dot(dz))
+        };
+        let c = self.cp.map(to_ray);
+
+        // Newton on g(w) = ⟨c_xy(w), c′_xy(w)⟩, from the chord's closest
+        // point. Pieces are split flat enough at build time for one root.
+        let chord = c[3].truncate() - c[0].truncate();
+        let denom = chord.length_squared();
+        if denom == 0.0 {
+            return None;
+        }
+        let mut w = (-c[0].truncate()).dot(chord) / denom;
+        for _ in 0..4 {
+            let wc = w.clamp(-0.5, 1.5);
+            let (p, d1) = evaluate_bezier(&c, wc);
+            // Second derivative of the cubic.
+            let d2 = 6.0 * ((c[2] - 2.0 * c[1] + c[0]) * (1.0 - wc) + (c[3] - 2.0 * c[2] + c[1]) * wc);
+            let g = p.x * d1.x + p.y * d1.y;
+            let dg = d1.x * d1.x + d1.y * d1.y + p.x * d2.x + p.y * d2.y;
+            if dg <= 0.0 {
+                break;
+            }
+            let step = g / dg;
+            w = wc - step;
+            if step.abs() < 1e-7 {
+                break;
+            }
+        }
+        // The closest point lies in a neighbouring piece.
+        if !(0.0..=1.0).contains(&w) {
+            return None;
+        }
+        let u = self.u0 + (self.u1 - self.u0) * w;
+        let mut hit_width = segment.width_at(u);
+        let mut n_hit = Vec3::ZERO;
+        if segment.kind == CurveType::Ribbon {
+            n_hit = segment.ribbon_normal(u);
+            hit_width *= n_hit.dot(ray.direction).abs() / ray_length;
+        }
+        let (pc, dpcdw) = evaluate_bezier(&c, w);
+        let dist2 = pc.x * pc.x + pc.y * pc.y;
+        if dist2 > hit_width * hit_width * 0.25 {
+            return None;
+        }
+        if pc.z < 0.0 || pc.z > ray_length * t_max {
+            return None;
+        }
+        let dist = dist2.sqrt();
+        let edge = dpcdw.x * -pc.y + pc.x * dpcdw.y;
+        let v = if edge > 0.0 { 0.5 + dist / hit_width } else { 0.5 - dist / hit_width };
+        Some(CurveHit { t: pc.z / ray_length, u, v, hit_width, n_hit })
+    }
+}
+
+/// Where a ray hit a curve piece.
+#[derive(Clone, Copy, Debug)]
+pub struct CurveHit {
+    pub t: f32,
+    /// Segment parameter along the curve.
+    pub u: f32,
+    /// Across the width, 0…1.
+    pub v: f32,
+    pub hit_width: f32,
+    pub n_hit: Vec3,
+}
+
+impl CurveHit {
+    /// The surface interaction pbrt-v4 builds for this hit.
+    pub fn interaction(&self, segment: &CurveSegment, ray: &Ray) -> SurfaceInteraction {
+        let (_, dpdu) = evaluate_bezier(&segment.cp, self.u);
+        let dpdv = match segment.kind {
+            CurveType::Ribbon => self.n_hit.cross(dpdu).normalize_or_zero() * self.hit_width,
+            _ => {
+                // Perpendicular to the tangent in the plane facing the ray.
+                let d = ray.direction.normalize();
+                let (ex, ey) = crate::math::frame::coordinate_system(d);
+                let tangent_plane = Vec3::new(dpdu.dot(ex), dpdu.dot(ey), dpdu.dot(d));
+                let mut dpdv_plane =
+                    Vec3::new(-tangent_plane.y, tangent_plane.x, 0.0).normalize_or_zero() * self.hit_width;
+                if segment.kind == CurveType::Cylinder {
+                    // Turn across the width so the normal sweeps a half
+                    // cylinder: θ from −90° to 90°, rotating by −θ about the
+                    // tangent.
+                    let theta = (-90.0 + 180.0 * self.v).to_radians();
+                    if let Some(axis) = tangent_plane.try_normalize() {
+                        dpdv_plane = glam::Quat::from_axis_angle(axis, -theta) * dpdv_plane;
+                    }
+                }
+                ex * dpdv_plane.x + ey * dpdv_plane.y + d * dpdv_plane.z
+            }
+        };
+        let mut n = dpdu.cross(dpdv).normalize_or_zero();
+        if segment.flip_normal {
+            n = -n;
+        }
+        let p = ray.at(self.t);
+        let mut si = SurfaceInteraction {
+            p,
+            p_error: Vec3::splat(self.hit_width),
+            t: self.t,
+            time: ray.time,
+            wo: -ray.direction.normalize(),
+            n,
+            uv: glam::Vec2::new(self.u, self.v),
+            dpdu,
+            dpdv,
+            curve_h: -1.0 + 2.0 * self.v,
+            ..Default::default()
+        };
+        si.shading = crate::interaction::Shading { n, dpdu, dpdv, dndu: Vec3::ZERO, dndv: Vec3::ZERO };
+        si
+    }
+}
+
+/// The curve's segments (in render space) and their BVH pieces.
+pub fn create_curves(
+    shape: &description::Shape,
+    render_from_object: &Transform,
+    reverse_orientation: bool,
+    segments: &mut Vec<CurveSegment>,
+    pieces: &mut Vec<CurvePiece>,
+) -> Result<()> {
+    let p = &shape.entity.params;
+    let loc = &shape.entity.location.0;
+    let cps = p.point3s("P")?;
+    let basis = p.string("basis", "bezier")?;
+    let degree = p.int("degree", 3)?;
+    let kind = match p.string("type", "flat")?.as_str() {
+        "flat" => CurveType::Flat,
+        "cylinder" => CurveType::Cylinder,
+        "ribbon" => CurveType::Ribbon,
+        other => return scene_error(format!("curve type \"{other}\" unknown (expected flat, cylinder or ribbon)"), loc),
+    };
+    let width = p.float("width", 1.0)?;
+    let width0 = p.float("width0", width)? as f32;
+    let width1 = p.float("width1", width)? as f32;
+    let split_depth = p.int("splitdepth", 3)?.clamp(0, 10) as u32;
+    let normals = p.normals("N")?;
+    p.report_unused(|| format!("shape \"{}\"", shape.entity.kind))?;
+    if degree != 2 && degree != 3 {
+        return scene_error(format!("curve \"degree\" must be 2 or 3, not {degree}"), loc);
+    }
+    let degree = degree as usize;
+    let n = cps.len();
+    let segments_count = match basis.as_str() {
+        "bezier" => {
+            if n < degree + 1 || (n - 1) % degree != 0 {
+                return scene_error(
+                    format!(
+                        "a degree-{degree} bezier curve needs {degree}k + 1 control points (k ≥ 1); {n} given"
+                    ),
+                    loc,
+                );
+            }
+            (n - 1) / degree
+        }
+        "bspline" => {
+            if n < degree + 1 {
+                return scene_error(format!("a degree-{degree} bspline curve needs at least {} control points; {n} given", degree + 1), loc);
+            }
+            n - degree
+        }
+        other => return scene_error(format!("curve basis \"{other}\" unknown (expected bezier or bspline)"), loc),
+    };
+    if kind == CurveType::Ribbon && normals.len() != segments_count + 1 {
+        return scene_error(
+            format!(
+                "a ribbon curve needs one normal \"N\" per segment end: {} expected, {} given",
+                segments_count + 1,
+                normals.len()
+            ),
+            loc,
+        );
+    }
+    if !(width0 >= 0.0 && width1 >= 0.0) {
+        return scene_error("curve widths must be ≥ 0", loc);
+    }
+    let m = render_from_object;
+    // Widths are in object space: scale them by the transform's size.
+    let width_scale = glam::DMat3::from_mat4(m.matrix).determinant().abs().cbrt() as f32;
+    let flip_normal = reverse_orientation ^ m.swaps_handedness();
+    let to_render = |q: DVec3| m.point(q).as_vec3();
+    let lerp = |t: f64, a: DVec3, b: DVec3| a + (b - a) * t;
+    for seg in 0..segments_count {
+        let bez: [DVec3; 4] = match (basis.as_str(), degree) {
+            ("bezier", 3) => [cps[3 * seg], cps[3 * seg + 1], cps[3 * seg + 2], cps[3 * seg + 3]],
+            ("bezier", _) => {
+                let (p0, p1, p2) = (cps[2 * seg], cps[2 * seg + 1], cps[2 * seg + 2]);
+                [p0, lerp(2.0 / 3.0, p0, p1), lerp(1.0 / 3.0, p1, p2), p2]
+            }
+            (_, 3) => {
+                let (p012, p123, p234, p345) = (cps[seg], cps[seg + 1], cps[seg + 2], cps[seg + 3]);
+                let p122 = lerp(2.0 / 3.0, p012, p123);
+                let p223 = lerp(1.0 / 3.0, p123, p234);
+                let p233 = lerp(2.0 / 3.0, p123, p234);
+                let p334 = lerp(1.0 / 3.0, p234, p345);
+                [lerp(0.5, p122, p223), p223, p233, lerp(0.5, p233, p334)]
+            }
+            _ => {
+                let (p01, p12, p23) = (cps[seg], cps[seg + 1], cps[seg + 2]);
+                let p11 = lerp(0.5, p01, p12);
+                let p22 = lerp(0.5, p12, p23);
+                [p11, lerp(2.0 / 3.0, p11, p12), lerp(1.0 / 3.0, p12, p22), p22]
+            }
+        };
+        let cp = bez.map(to_render);
+        let t0 = seg as f32 / segments_count as f32;
+        let t1 = (seg + 1) as f32 / segments_count as f32;
+        let w = [
+            (width0 + (width1 - width0) * t0) * width_scale,
+            (width0 + (width1 - width0) * t1) * width_scale,
+        ];
+        let (normals_render, angle) = if kind == CurveType::Ribbon {
+            let nt = |v: DVec3| m.inverse.transpose().transform_vector3(v).as_vec3().normalize_or_zero();
+            let (n0, n1) = (nt(normals[seg]), nt(normals[seg + 1]));
+            (
+                [n0, n1],
+                crate::math::safe_acos(n0.dot(n1).clamp(-1.0, 1.0)),
+            )
+        } else {
+            ([Vec3::ZERO; 2], 0.0)
+        };
+        let segment = CurveSegment {
+            cp,
+            width: w,
+            kind,
+            normals: normals_render,
+            normal_angle: angle,
+            inv_sin_normal_angle: if angle > 0.0 { 1.0 / angle.sin() } else { 0.0 },
+            flip_normal,
+        };
+        let segment_index = segments.len() as u32;
+        split_into_pieces(&segment, segment_index, split_depth, pieces);
+        segments.push(segment);
+    }
+    Ok(())
+}
+
+/// Splits a segment into pieces: 2^split_depth at least, then halves any
+/// piece whose control polygon strays from its chord by more than a tenth
+/// of the width (so Newton's method sees one closest point), up to 2¹⁰.
+fn split_into_pieces(segment: &CurveSegment, index: u32, split_depth: u32, pieces: &mut Vec<CurvePiece>) {
+    let n = 1u32 << split_depth;
+    let mut stack: Vec<(f32, f32, u32)> = (0..n).rev().map(|i| (i as f32 / n as f32, (i + 1) as f32 / n as f32, split_depth)).collect();
+    while let Some((u0, u1, depth)) = stack.pop() {
+        let cp = blossom_piece(&segment.cp, u0, u1);
+        let w = segment.width_at(u0).min(segment.width_at(u1)).max(1e-12);
+        if depth < 10 && deviation(&cp) > 0.1 * w.max(1e-3 * (cp[3] - cp[0]).length()) {
+            let mid = 0.5 * (u0 + u1);
+            stack.push((mid, u1, depth + 1));
+            stack.push((u0, mid, depth + 1));
+            continue;
+        }
+        pieces.push(CurvePiece { segment: index, u0, u1, cp });
+    }
+}
+
+/// How far the inner control points stray from the chord.
+fn deviation(cp: &[Vec3; 4]) -> f32 {
+    let chord = cp[3] - cp[0];
+    let len2 = chord.length_squared();
+    let dist = |p: Vec3| {
+        if len2 == 0.0 {
+            return (p - cp[0]).length();
+        }
+        let t = ((p - cp[0]).dot(chord) / len2).clamp(0.0, 1.0);
+        (p - (cp[0] + chord * t)).length()
+    };
+    dist(cp[1]).max(dist(cp[2]))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::DVec2;
+
+    fn segment(cp: [Vec3; 4], w: f32, kind: CurveType) -> (CurveSegment, Vec<CurvePiece>) {
+        let s = CurveSegment {
+            cp,
+            width: [w, w],
+            kind,
+            normals: [Vec3::Z, Vec3::Z],
+            normal_angle: 0.0,
+            inv_sin_normal_angle: 0.0,
+            flip_normal: false,
+        };
+        let mut pieces = Vec::new();
+        split_into_pieces(&s, 0, 3, &mut pieces);
+        (s, pieces)
+    }
+
+    fn closest(pieces: &[CurvePiece], s: &CurveSegment, ray: &Ray) -> Option<CurveHit> {
+        pieces
+            .iter()
+            .filter_map(|p| p.intersect(s, ray, f32::INFINITY))
+            .min_by(|a, b| a.t.total_cmp(&b.t))
+    }
+
+    /// f64 brute force: the point of the curve closest to the ray in the
+    /// ray's frame, by dense sampling then golden-section refinement.
+    fn reference(s: &CurveSegment, ray: &Ray) -> Option<(f64, f64, f64)> {
+        let o = ray.origin.as_dvec3();
+        let d = ray.direction.as_dvec3();
+        let len = d.length();
+        let dz = d / len;
+        let helper = if dz.x.abs() > 0.9 { DVec3::Y } else { DVec3::X };
+        let ex = helper.cross(dz).normalize();
+        let ey = dz.cross(ex);
+        let cp = s.cp.map(|p| p.as_dvec3());
+        let eval = |u: f64| {
+            let a = |i: usize| cp[i];
+            let v = 1.0 - u;
+            a(0) * v * v * v + a(1) * 3.0 * v * v * u + a(2) * 3.0 * v * u * u + a(3) * u * u * u
+        };
+        let proj = |u: f64| {
+            let q = eval(u) - o;
+            (DVec2::new(q.dot(ex), q.dot(ey)), q.dot(dz))
+        };
+        let n = 20000;
+        let mut best = (f64::INFINITY, 0.0);
+        for i in 0..=n {
+            let u = i as f64 / n as f64;
+            let dist = proj(u).0.length();
+            if dist < best.0 {
+                best = (dist, u);
+            }
+        }
+        let (mut a, mut b) = ((best.1 - 1.0 / n as f64).max(0.0), (best.1 + 1.0 / n as f64).min(1.0));
+        for _ in 0..100 {
+            let m1 = a + (b - a) * 0.382;
+            let m2 = a + (b - a) * 0.618;
+            if proj(m1).0.length() < proj(m2).0.length() {
+                b = m2;
+            } else {
+                a = m1;
+            }
+        }
+        let u = 0.5 * (a + b);
+        let (xy, z) = proj(u);
+        let w = s.width[0] as f64 + (s.width[1] - s.width[0]) as f64 * u;
+        // The closest point must be interior (not clamped at an end).
+        if xy.length() > w / 2.0 || z < 0.0 || u <= 1e-6 || u >= 1.0 - 1e-6 {
+            return None;
+        }
+        Some((z / len, u, xy.length() / w))
+    }
+
+    #[test]
+    fn hits_agree_with_an_f64_brute_force_reference() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut rnd = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 40) as f32 / (1u64 << 24) as f32
+        };
+        let (mut compared, mut worst_t, mut worst_v) = (0, 0.0f64, 0.0f64);
+        for _ in 0..400 {
+            let cp = [0, 1, 2, 3].map(|i| Vec3::new(i as f32, rnd() * 2.0 - 1.0, rnd() * 2.0 - 1.0));
+            let w = 0.05 + 0.2 * rnd();
+            let (s, pieces) = segment(cp, w, CurveType::Flat);
+            for _ in 0..50 {
+                let target = evaluate_bezier(&cp, 0.05 + 0.9 * rnd()).0 + Vec3::new(0.0, rnd() - 0.5, rnd() - 0.5) * w;
+                let origin = target + Vec3::new(rnd() - 0.5, rnd() - 0.5, 3.0 + rnd()).normalize() * 5.0;
+                let ray = Ray::new(origin, (target - origin) * (0.5 + rnd()), 0.0);
+                let ours = closest(&pieces, &s, &ray);
+                let reference = reference(&s, &ray);
+                match (ours, reference) {
+                    (Some(h), Some((t, u, dist_over_w))) => {
+                        compared += 1;
+                        worst_t = worst_t.max((h.t as f64 - t).abs() / t);
+                        // v = 0.5 ± dist/w: compare the distance part.
+                        worst_v = worst_v.max(((h.v as f64 - 0.5).abs() - dist_over_w).abs());
+                        assert!((h.u as f64 - u).abs() < 1e-3, "u {} vs {u}", h.u);
+                    }
+                    (None, None) => {}
+                    // Grazing the edge of the width: both are right within
+                    // precision.
+                    (a, b) => {
+                        let near_edge = b.map_or(true, |(_, _, d)| d > 0.499) && a.map_or(true, |h| (h.v - 0.5).abs() > 0.499);
+                        assert!(near_edge, "ours {a:?} vs reference {b:?}");
+                    }
+                }
+            }
+        }
+        eprintln!("curve hits compared: {compared}; worst relative t error {worst_t:.2e}, worst v error {worst_v:.2e}");
+        assert!(compared > 5000);
+        assert!(worst_t < 1e-4, "{worst_t}");
+        assert!(worst_v < 2e-3, "{worst_v}");
+    }
+
+    #[test]
+    fn straight_curves_zero_widths_and_tiny_segments_are_finite() {
+        let straight = [Vec3::ZERO, Vec3::new(1.0, 0.0, 0.0), Vec3::new(2.0, 0.0, 0.0), Vec3::new(3.0, 0.0, 0.0)];
+        let tiny = [Vec3::ZERO, Vec3::splat(1e-7), Vec3::splat(2e-7), Vec3::splat(3e-7)];
+        let repeated = [Vec3::ZERO, Vec3::ZERO, Vec3::new(1.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0)];
+        for (cp, w) in [(straight, 0.1), (straight, 0.0), (tiny, 0.01), (repeated, 0.1)] {
+            for kind in [CurveType::Flat, CurveType::Cylinder] {
+                let (s, pieces) = segment(cp, w, kind);
+                for i in 0..50 {
+                    let x = i as f32 / 49.0 * 3.0;
+                    let ray = Ray::new(Vec3::new(x, 0.01, 5.0), Vec3::new(0.0, 0.0, -1.0), 0.0);
+                    if let Some(h) = closest(&pieces, &s, &ray) {
+                        let si = h.interaction(&s, &ray);
+                        assert!(si.p.is_finite() && si.n.is_finite() && si.curve_h.is_finite(), "{si:?}");
+                        assert!(h.t.is_finite() && (0.0..=1.0).contains(&h.v));
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn no_self_intersection_from_offset_origins() {
+        let cp = [Vec3::ZERO, Vec3::new(1.0, 0.5, 0.0), Vec3::new(2.0, -0.5, 0.2), Vec3::new(3.0, 0.0, 0.0)];
+        let (s, pieces) = segment(cp, 0.1, CurveType::Cylinder);
+        let mut hits = 0;
+        for i in 0..200 {
+            let u = 0.02 + 0.96 * i as f32 / 199.0;
+            let target = evaluate_bezier(&cp, u).0;
+            let ray = Ray::new(target + Vec3::new(0.1, 0.2, 4.0), Vec3::new(-0.1, -0.2, -4.0), 0.0);
+            let Some(h) = closest(&pieces, &s, &ray) else { continue };
+            hits += 1;
+            let si = h.interaction(&s, &ray);
+            // Leave the surface to the side of the normal and away from it.
+            for d in [si.n, si.wo, (si.n + Vec3::new(0.3, 0.1, 0.0)).normalize()] {
+                if d.dot(si.n) <= 0.0 {
+                    continue;
+                }
+                let out = si.spawn_ray(d);
+                assert!(closest(&pieces, &s, &out).is_none_or(|h2| h2.t > 1e-2), "re-hit at u {u}");
+            }
+        }
+        assert!(hits > 150);
+    }
+
+    #[test]
+    fn cylinder_normal_turns_across_the_width() {
+        let cp = [Vec3::ZERO, Vec3::new(1.0, 0.0, 0.0), Vec3::new(2.0, 0.0, 0.0), Vec3::new(3.0, 0.0, 0.0)];
+        let (s, pieces) = segment(cp, 0.2, CurveType::Cylinder);
+        let ray_at = |y: f32| Ray::new(Vec3::new(1.5, y, 5.0), Vec3::new(0.0, 0.0, -1.0), 0.0);
+        let centre = closest(&pieces, &s, &ray_at(0.0)).unwrap().interaction(&s, &ray_at(0.0));
+        assert!(centre.n.z.abs() > 0.99, "{:?}", centre.n);
+        let edge = closest(&pieces, &s, &ray_at(0.099)).unwrap();
+        let si = edge.interaction(&s, &ray_at(0.099));
+        assert!(si.n.z.abs() < 0.1, "normal at the edge {:?}", si.n);
+        assert!((si.curve_h.abs() - 0.99).abs() < 0.01, "h {}", si.curve_h);
+    }
+}
