@@ -77,10 +77,42 @@ pub fn create_light(light: &description::Light, render_from_world: &Transform, b
             };
             Light::Distant(DistantLight { towards_light, radiance, scale, scene_radius: 0.0 })
         }
-        "infinite" => {
-            if p.find("filename", &[pbrt_parser::ParamType::String])?.is_some() {
-                return scene_error("image infinite lights (\"filename\") are not supported yet", loc);
+        "infinite" if p.find("filename", &[pbrt_parser::ParamType::String])?.is_some() => {
+            let filename = p.string("filename", "")?;
+            if p.find("L", &[pbrt_parser::ParamType::Rgb, pbrt_parser::ParamType::Spectrum, pbrt_parser::ParamType::Blackbody])?.is_some() {
+                return scene_error("infinite light: \"L\" and \"filename\" cannot both be given", loc);
             }
+            if p.float("illuminance", -1.0)? > 0.0 {
+                return scene_error("infinite light: \"illuminance\" with an image is not supported yet", loc);
+            }
+            if p.find("portal", &[pbrt_parser::ParamType::Point3])?.is_some() {
+                return scene_error("infinite light \"portal\" is not supported yet", loc);
+            }
+            let path = pbrt_parser::resolve_path(base, &filename);
+            let image = match crate::image::Image::read(&path) {
+                Ok(image) => image,
+                Err(err) => return scene_error(format!("infinite light: {err}"), loc),
+            };
+            if image.width != image.height {
+                return scene_error(
+                    format!(
+                        "infinite light: \"{filename}\" is {}×{}, not square: it is unlikely to be an equal-area environment map",
+                        image.width, image.height
+                    ),
+                    loc,
+                );
+            }
+            let data = image.rgb_data();
+            let rgb: Vec<[f32; 3]> = data.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+            // Images carry no colour space here: linear sRGB (pbrt-v4's
+            // default when the file names none).
+            let color_space = RgbColorSpace::get(crate::scene::description::ColorSpaceName::Srgb);
+            let scale = p.float("scale", 1.0)? as f32 / photometric(&color_space.illuminant);
+            p.report_unused(|| "light \"infinite\"".into())?;
+            let render_from_light = render_from_light.to_mat4();
+            return Ok(Light::ImageInfinite(super::ImageInfiniteLight::new(render_from_light, rgb, image.width as i32, color_space, scale)));
+        }
+        "infinite" => {
             if p.find("portal", &[pbrt_parser::ParamType::Point3])?.is_some() {
                 return scene_error("infinite light \"portal\" is not supported yet", loc);
             }

@@ -4,6 +4,7 @@
 pub mod create;
 pub mod diffuse_area;
 pub mod distant;
+pub mod image_infinite;
 pub mod point;
 pub mod sampler;
 pub mod spot;
@@ -12,6 +13,7 @@ pub mod uniform_infinite;
 pub use create::{create_area_light, create_light};
 pub use diffuse_area::DiffuseAreaLight;
 pub use distant::DistantLight;
+pub use image_infinite::ImageInfiniteLight;
 pub use point::PointLight;
 pub use sampler::LightSampler;
 pub use spot::SpotLight;
@@ -60,6 +62,7 @@ pub enum Light {
     Spot(SpotLight),
     Distant(DistantLight),
     UniformInfinite(UniformInfiniteLight),
+    ImageInfinite(ImageInfiniteLight),
     DiffuseArea(DiffuseAreaLight),
 }
 
@@ -68,7 +71,7 @@ impl Light {
         match self {
             Light::Point(_) | Light::Spot(_) => LightKind::DeltaPosition,
             Light::Distant(_) => LightKind::DeltaDirection,
-            Light::UniformInfinite(_) => LightKind::Infinite,
+            Light::UniformInfinite(_) | Light::ImageInfinite(_) => LightKind::Infinite,
             Light::DiffuseArea(_) => LightKind::Area,
         }
     }
@@ -89,6 +92,7 @@ impl Light {
             Light::Spot(l) => l.sample_li(ctx, lambda),
             Light::Distant(l) => l.sample_li(ctx, lambda),
             Light::UniformInfinite(l) => l.sample_li(ctx, u, lambda, allow_incomplete_pdf),
+            Light::ImageInfinite(l) => l.sample_li(ctx, u, lambda, allow_incomplete_pdf),
             Light::DiffuseArea(l) => l.sample_li(ctx, u, lambda, shapes),
         }
     }
@@ -98,14 +102,16 @@ impl Light {
         match self {
             Light::Point(_) | Light::Spot(_) | Light::Distant(_) => 0.0,
             Light::UniformInfinite(l) => l.pdf_li(allow_incomplete_pdf),
+            Light::ImageInfinite(l) => l.pdf_li(wi, allow_incomplete_pdf),
             Light::DiffuseArea(l) => l.pdf_li(ctx, wi, shapes),
         }
     }
 
     /// Radiance arriving along a ray that escapes the scene.
-    pub fn le(&self, _ray: &Ray, lambda: &SampledWavelengths) -> SampledSpectrum {
+    pub fn le(&self, ray: &Ray, lambda: &SampledWavelengths) -> SampledSpectrum {
         match self {
             Light::UniformInfinite(l) => l.le(lambda),
+            Light::ImageInfinite(l) => l.le(ray.direction, lambda),
             _ => SampledSpectrum::ZERO,
         }
     }
@@ -117,6 +123,7 @@ impl Light {
             Light::Spot(l) => l.phi(lambda),
             Light::Distant(l) => l.phi(lambda),
             Light::UniformInfinite(l) => l.phi(lambda),
+            Light::ImageInfinite(l) => l.phi(lambda),
             Light::DiffuseArea(l) => l.phi(lambda, shapes),
         }
     }
@@ -127,6 +134,7 @@ impl Light {
         match self {
             Light::Distant(l) => l.preprocess(scene_center, scene_radius),
             Light::UniformInfinite(l) => l.preprocess(scene_center, scene_radius),
+            Light::ImageInfinite(l) => l.preprocess(scene_center, scene_radius),
             _ => {}
         }
     }

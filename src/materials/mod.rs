@@ -8,13 +8,17 @@
 //! | `thindielectric` | `eta` 1.5 |
 //! | `coateddiffuse` | `reflectance` 0.5, `roughness` 0, `thickness` 0.01, `eta` 1.5, `albedo` 0, `g` 0, `maxdepth` 10, `nsamples` 1, `remaproughness` true |
 //! | `diffusetransmission` | `reflectance` 0.25, `transmittance` 0.25, `scale` 1 |
+//! | `hair` | `sigma_a`, or `reflectance` (alias `color`), or `eumelanin`/`pheomelanin` (default eumelanin 1.3 when none is given); `eta` 1.55, `beta_m` 0.3, `beta_n` 0.3 (both clamped to [0.01, 1]), `alpha` 2° |
 //! | `interface` | none: marks a boundary between media; rays pass through |
 
 use crate::bxdfs::{
     CoatedDiffuseBxDF, ConductorBxDF, DielectricBxDF, DiffuseBxDF, DiffuseTransmissionBxDF, ThinDielectricBxDF,
     TrowbridgeReitzDistribution, BSDF, BxDF,
 };
+use crate::bxdfs::hair::HairBxDF;
 use crate::error::{scene_error, Result};
+use crate::scene::description::ColorSpaceName;
+use crate::spectrum::color_space::RgbColorSpace;
 use crate::interaction::SurfaceInteraction;
 use crate::math::Frame;
 use crate::scene::description::Entity;
@@ -69,6 +73,16 @@ pub enum Material {
     Conductor { eta: SpectrumTexture, k: SpectrumTexture, reflectance: Option<SpectrumTexture>, roughness: Roughness },
     Dielectric { eta: Eta, roughness: Roughness },
     ThinDielectric { eta: Eta },
+    Hair {
+        sigma_a: Option<SpectrumTexture>,
+        reflectance: Option<SpectrumTexture>,
+        eumelanin: Option<FloatTexture>,
+        pheomelanin: Option<FloatTexture>,
+        eta: FloatTexture,
+        beta_m: FloatTexture,
+        beta_n: FloatTexture,
+        alpha: FloatTexture,
+    },
     CoatedDiffuse {
         reflectance: SpectrumTexture,
         albedo: SpectrumTexture,
@@ -145,6 +159,25 @@ impl Material {
                 max_depth: p.int("maxdepth", 10)?.max(1) as u32,
                 n_samples: p.int("nsamples", 1)?.max(1) as u32,
             },
+            "hair" => {
+                let sigma_a = tp.spectrum_texture("sigma_a", None, SpectrumKind::Unbounded)?;
+                let reflectance = tp.spectrum_texture("reflectance", None, SpectrumKind::Albedo)?;
+                let mut eumelanin = tp.float_texture_opt("eumelanin")?;
+                let pheomelanin = tp.float_texture_opt("pheomelanin")?;
+                if sigma_a.is_none() && reflectance.is_none() && eumelanin.is_none() && pheomelanin.is_none() {
+                    eumelanin = Some(FloatTexture::Constant(1.3));
+                }
+                Material::Hair {
+                    sigma_a,
+                    reflectance,
+                    eumelanin,
+                    pheomelanin,
+                    eta: tp.float_texture("eta", 1.55)?,
+                    beta_m: tp.float_texture("beta_m", 0.3)?,
+                    beta_n: tp.float_texture("beta_n", 0.3)?,
+                    alpha: tp.float_texture("alpha", 2.0)?,
+                }
+            }
             other => return scene_error(format!("material \"{other}\" is not supported yet"), loc),
         };
         p.report_unused(|| format!("material \"{}\"", entity.kind))?;
@@ -180,6 +213,25 @@ impl Material {
                 BxDF::Dielectric(DielectricBxDF::new(e, roughness.distribution(&ctx)))
             }
             Material::ThinDielectric { eta } => BxDF::ThinDielectric(ThinDielectricBxDF::new(eval_eta(eta, lambda))),
+            Material::Hair { sigma_a, reflectance, eumelanin, pheomelanin, eta, beta_m, beta_n, alpha } => {
+                let bm = beta_m.evaluate(&ctx).clamp(0.01, 1.0);
+                let bn = beta_n.evaluate(&ctx).clamp(0.01, 1.0);
+                // Precedence as pbrt-v4: σa, then reflectance, then melanin.
+                let sig_a = if let Some(s) = sigma_a {
+                    s.evaluate(&ctx, lambda).clamp_zero()
+                } else if let Some(r) = reflectance {
+                    HairBxDF::sigma_a_from_reflectance(clamp01(r.evaluate(&ctx, lambda)), bn)
+                } else {
+                    let ce = eumelanin.as_ref().map_or(0.0, |t| t.evaluate(&ctx)).max(0.0);
+                    let cp = pheomelanin.as_ref().map_or(0.0, |t| t.evaluate(&ctx)).max(0.0);
+                    let rgb = HairBxDF::sigma_a_from_concentration(ce, cp);
+                    RgbColorSpace::get(ColorSpaceName::Srgb)
+                        .rgb_to_spectrum(glam::Vec3::from(rgb), SpectrumKind::Unbounded)
+                        .sample(lambda)
+                };
+                let h = -1.0 + 2.0 * si.uv.y;
+                BxDF::Hair(HairBxDF::new(h, eta.evaluate(&ctx), sig_a, bm, bn, alpha.evaluate(&ctx)))
+            }
             Material::CoatedDiffuse { reflectance, albedo, roughness, thickness, g, eta, max_depth, n_samples } => {
                 let e = eval_eta(eta, lambda);
                 BxDF::CoatedDiffuse(CoatedDiffuseBxDF::new(
