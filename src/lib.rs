@@ -5,6 +5,7 @@
 //! See `docs/architecture.md`.
 
 pub mod error;
+pub mod image;
 pub mod interaction;
 pub mod math;
 pub mod scene;
