@@ -10,16 +10,21 @@
 
 mod atomic_write;
 pub mod color_encoding;
+mod ewa_weights;
 mod exr_file;
 mod file_io;
 mod image_buffer;
+pub mod mipmap;
 mod pfm_file;
 pub mod pixel_format;
 mod png_tga_jpeg_file;
+mod pyramid;
+mod resample;
 pub mod wrap_mode;
 
 pub use color_encoding::ColorEncoding;
 pub use image_buffer::{Image, NonFiniteSample};
+pub use mipmap::{FilterFunction, MIPMap};
 pub use pixel_format::PixelFormat;
 pub use wrap_mode::WrapMode;
 
@@ -58,4 +63,7 @@ pub enum ImageError {
     /// An image built in memory is inconsistent (size, channels, data).
     #[error("invalid image: {0}")]
     Invalid(String),
+    /// An image with these channels cannot be used as a texture.
+    #[error("an image texture needs R, G and B channels or a single channel; this one has {0:?}")]
+    TextureChannels(Vec<String>),
 }
