@@ -8,6 +8,7 @@ pub mod accel;
 pub mod bxdfs;
 pub mod cameras;
 pub mod error;
+pub mod image;
 pub mod interaction;
 pub mod math;
 // pending merge: pub mod film;

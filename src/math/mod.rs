@@ -2,6 +2,7 @@
 //! the scene description keeps f64 transforms.
 
 pub mod bounds;
+pub mod equal_area;
 pub mod frame;
 pub mod ray;
 pub mod sampling;

@@ -1,0 +1,162 @@
+//! OpenEXR files (`.exr`), through the `exr` crate.
+//!
+//! Reading takes the first layer's largest resolution level. Its channels
+//! are put in a canonical order: R, G, B (and A when present) if the layer
+//! has R, G and B — the channels pbrt-v4 uses for textures and lights —
+//! otherwise Y (and A), otherwise a lone channel of any name. Half and float
+//! samples are both read as `f32`; the format records which it was.
+
+use super::{ColorEncoding, Image, ImageError, PixelFormat};
+use exr::prelude::{
+    f16, read, AnyChannel, AnyChannels, Encoding, FlatSamples, Layer, LayerAttributes,
+    ReadChannels, ReadLayers, Text, WritableImage,
+};
+use std::io::{BufReader, Seek, Write};
+use std::path::Path;
+
+pub(crate) fn read_exr(path: &Path) -> Result<Image, ImageError> {
+    let file = std::fs::File::open(path).map_err(|source| ImageError::Io {
+        path: path.into(),
+        source,
+    })?;
+    let malformed = |message: String| ImageError::Malformed {
+        path: path.into(),
+        message,
+    };
+    let exr_image = read()
+        .no_deep_data()
+        .largest_resolution_level()
+        .all_channels()
+        .first_valid_layer()
+        .all_attributes()
+        .from_buffered(BufReader::new(file))
+        .map_err(|error| malformed(format!("cannot read OpenEXR data: {error}")))?;
+    let layer = exr_image.layer_data;
+    let (width, height) = (layer.size.0, layer.size.1);
+    let pixel_count = width * height;
+    let names: Vec<String> = layer
+        .channel_data
+        .list
+        .iter()
+        .map(|c| c.name.to_string())
+        .collect();
+
+    let wanted = canonical_channels(&names)
+        .ok_or_else(|| malformed(format!("no R, G, B or Y channels (the file has {names:?})")))?;
+
+    let mut columns = Vec::with_capacity(wanted.len());
+    let mut all_half = true;
+    for name in &wanted {
+        let channel = layer
+            .channel_data
+            .list
+            .iter()
+            .find(|channel| channel.name.to_string() == name.as_str())
+            .ok_or_else(|| malformed(format!("channel {name} vanished")))?;
+        if channel.sampling.0 != 1 || channel.sampling.1 != 1 {
+            return Err(malformed(format!(
+                "channel {name} is subsampled, which is not supported"
+            )));
+        }
+        let samples: Vec<f32> = match &channel.sample_data {
+            FlatSamples::F16(values) => values.iter().map(|value| value.to_f32()).collect(),
+            FlatSamples::F32(values) => {
+                all_half = false;
+                values.clone()
+            }
+            FlatSamples::U32(values) => {
+                all_half = false;
+                values.iter().map(|&value| value as f32).collect()
+            }
+        };
+        if samples.len() != pixel_count {
+            return Err(malformed(format!(
+                "channel {name} has {} samples for {width}×{height} pixels",
+                samples.len()
+            )));
+        }
+        columns.push(samples);
+    }
+
+    let mut data = Vec::with_capacity(pixel_count * wanted.len());
+    for pixel in 0..pixel_count {
+        data.extend(columns.iter().map(|column| column[pixel]));
+    }
+    let (width, height) = match (u32::try_from(width), u32::try_from(height)) {
+        (Ok(w), Ok(h)) => (w, h),
+        _ => return Err(malformed(format!("resolution {width}×{height} too large"))),
+    };
+    let format = if all_half {
+        PixelFormat::Half
+    } else {
+        PixelFormat::Float
+    };
+    Image::from_parts(width, height, wanted, data, ColorEncoding::Linear, format)
+        .map_err(|error| malformed(error.to_string()))
+}
+
+/// The channels to keep, in canonical order (see the module description).
+fn canonical_channels(names: &[String]) -> Option<Vec<String>> {
+    let has = |name: &str| names.iter().any(|present| present == name);
+    let chosen: Vec<&str> = if has("R") && has("G") && has("B") {
+        vec!["R", "G", "B"]
+    } else if has("Y") {
+        vec!["Y"]
+    } else if let [lone] = names {
+        return Some(vec![lone.clone()]);
+    } else {
+        return None;
+    };
+    let alpha = has("A").then_some("A");
+    Some(
+        chosen
+            .into_iter()
+            .chain(alpha)
+            .map(str::to_string)
+            .collect(),
+    )
+}
+
+/// Writes every channel of `image` (linear and finite; the caller checks),
+/// as half floats if `half`, else 32-bit floats, ZIP-compressed.
+pub(crate) fn write_exr(
+    image: &Image,
+    half: bool,
+    path: &Path,
+    writer: &mut (impl Write + Seek),
+) -> Result<(), ImageError> {
+    let unwritable = |message: String| ImageError::Unwritable {
+        path: path.into(),
+        message,
+    };
+    let width = image.width() as usize;
+    let height = image.height() as usize;
+    let channel_count = image.channel_count();
+    let mut channels = exr::prelude::SmallVec::<[AnyChannel<FlatSamples>; 4]>::new();
+    for (index, name) in image.channels().iter().enumerate() {
+        let name_text = Text::new_or_none(name)
+            .ok_or_else(|| unwritable(format!("channel name {name:?} is not valid in OpenEXR")))?;
+        let column = image
+            .data()
+            .iter()
+            .skip(index)
+            .step_by(channel_count)
+            .copied();
+        let samples = if half {
+            FlatSamples::F16(column.map(f16::from_f32).collect())
+        } else {
+            FlatSamples::F32(column.collect())
+        };
+        channels.push(AnyChannel::new(name_text, samples));
+    }
+    let layer = Layer::new(
+        (width, height),
+        LayerAttributes::default(),
+        Encoding::SMALL_LOSSLESS,
+        AnyChannels::sort(channels),
+    );
+    exr::prelude::Image::from_layer(layer)
+        .write()
+        .to_buffered(writer)
+        .map_err(|error| unwritable(format!("OpenEXR encoding failed: {error}")))
+}
