@@ -77,10 +77,17 @@ pub fn render_file(path: &Path, overrides: &RenderOverrides, threads: usize, sho
         let rgb = film.pixel_rgb(p);
         data.extend_from_slice(&[rgb.x, rgb.y, rgb.z]);
     }
-    let image = Image::from_rgb(w, h, data);
-    image
-        .write_with(&film.filename, film.save_fp16)
-        .map_err(|e| Error::Io { path: film.filename.display().to_string(), source: std::io::Error::other(e.to_string()) })?;
+    let io_error = |e: crate::image::ImageError| Error::Io {
+        path: film.filename.display().to_string(),
+        source: std::io::Error::other(e.to_string()),
+    };
+    let image = Image::from_rgb(w, h, data).map_err(io_error)?;
+    let is_exr = film.filename.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+    if is_exr {
+        image.write_exr(&film.filename, film.save_fp16).map_err(io_error)?;
+    } else {
+        image.write(&film.filename).map_err(io_error)?;
+    }
     Ok(RenderReport {
         output: film.filename.clone(),
         resolution: (w, h),

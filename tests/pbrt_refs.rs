@@ -17,7 +17,7 @@ struct Comparison {
 }
 
 fn compare(image: &Image, reference: &Image) -> Comparison {
-    let (w, h) = (reference.width as usize, reference.height as usize);
+    let (w, h) = (reference.width() as usize, reference.height() as usize);
     let x = image.rgb_data();
     let r = reference.rgb_data();
     Comparison {

@@ -21,6 +21,7 @@ mod png_tga_jpeg_file;
 mod pyramid;
 mod resample;
 pub mod wrap_mode;
+mod rgb;
 
 pub use color_encoding::ColorEncoding;
 pub use image_buffer::{Image, NonFiniteSample};

@@ -93,11 +93,11 @@ pub fn create_light(light: &description::Light, render_from_world: &Transform, b
                 Ok(image) => image,
                 Err(err) => return scene_error(format!("infinite light: {err}"), loc),
             };
-            if image.width != image.height {
+            if image.width() != image.height() {
                 return scene_error(
                     format!(
                         "infinite light: \"{filename}\" is {}×{}, not square: it is unlikely to be an equal-area environment map",
-                        image.width, image.height
+                        image.width(), image.height()
                     ),
                     loc,
                 );
@@ -110,7 +110,7 @@ pub fn create_light(light: &description::Light, render_from_world: &Transform, b
             let scale = p.float("scale", 1.0)? as f32 / photometric(&color_space.illuminant);
             p.report_unused(|| "light \"infinite\"".into())?;
             let render_from_light = render_from_light.to_mat4();
-            return Ok(Light::ImageInfinite(super::ImageInfiniteLight::new(render_from_light, rgb, image.width as i32, color_space, scale)));
+            return Ok(Light::ImageInfinite(super::ImageInfiniteLight::new(render_from_light, rgb, image.width() as i32, color_space, scale)));
         }
         "infinite" => {
             if p.find("portal", &[pbrt_parser::ParamType::Point3])?.is_some() {
