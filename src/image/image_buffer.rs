@@ -222,7 +222,10 @@ impl Image {
         (p.y as usize * self.width as usize + p.x as usize) * self.channels.len()
     }
 
-    /// The stored (possibly encoded) samples of the pixel at `p` (inside).
+    /// The stored (possibly encoded) samples of pixel (x, y).
+    ///
+    /// Panics if the pixel is outside the image (a caller bug: use
+    /// [`channel`](Image::channel) for coordinates that may be outside).
     pub fn pixel(&self, x: u32, y: u32) -> &[f32] {
         let offset = self.pixel_offset(IVec2::new(x as i32, y as i32));
         &self.data[offset..offset + self.channels.len()]
