@@ -7,6 +7,7 @@
 pub mod error;
 pub mod interaction;
 pub mod math;
+pub mod samplers;
 pub mod scene;
 pub mod spectrum;
 pub mod tools;
