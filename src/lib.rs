@@ -17,6 +17,7 @@ pub mod math;
 // pending merge: pub mod materials;
 // pending merge: pub mod pipeline;
 // pending merge: pub mod render;
+pub mod samplers;
 pub mod scene;
 pub mod shapes;
 // pending merge: pub mod textures;

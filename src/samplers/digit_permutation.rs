@@ -1,0 +1,108 @@
+//! Random permutations of the digits of base-b numbers, one per digit
+//! position: the "permutedigits" scrambling of the Halton sampler.
+
+use super::hash::hash_words;
+use super::permutation::permutation_element;
+use super::primes::{PRIMES, PRIME_TABLE_SIZE};
+use std::sync::{Arc, OnceLock};
+
+/// How many base-`base` digits an f32 radical inverse resolves: digits are
+/// taken while `1 - (base - 1) / base^i` is still below 1 in f32 (pbrt-v4's
+/// rule, so the permutations line up with its digit loops).
+pub fn f32_digit_count(base: u32) -> usize {
+    let inverse_base = 1.0 / base as f32;
+    let mut inverse_base_power = 1.0f32;
+    let mut digits = 0;
+    while 1.0 - (base - 1) as f32 * inverse_base_power < 1.0 {
+        digits += 1;
+        inverse_base_power *= inverse_base;
+    }
+    digits
+}
+
+/// For each digit position of base-`base` numbers, a permutation of the
+/// digit values (pbrt-v4's `DigitPermutation`).
+#[derive(Clone, Debug)]
+pub struct DigitPermutation {
+    base: u32,
+    /// `[digit_index * base + digit_value]`.
+    permutations: Vec<u16>,
+}
+
+impl DigitPermutation {
+    /// The permutations for `base` (below 65536) chosen by `seed`.
+    pub fn new(base: u32, seed: u32) -> Self {
+        let digit_count = f32_digit_count(base);
+        let mut permutations = Vec::with_capacity(digit_count * base as usize);
+        for digit_index in 0..digit_count {
+            let digit_seed = hash_words(&[base, digit_index as u32, seed]) as u32;
+            for digit_value in 0..base {
+                permutations.push(permutation_element(digit_value, base, digit_seed) as u16);
+            }
+        }
+        DigitPermutation { base, permutations }
+    }
+
+    /// The value digit `digit_value` at position `digit_index` becomes.
+    #[inline]
+    pub fn permute(&self, digit_index: usize, digit_value: u32) -> u32 {
+        let index = digit_index * self.base as usize + digit_value as usize;
+        self.permutations
+            .get(index)
+            .map_or(digit_value, |&p| u32::from(p))
+    }
+}
+
+/// The digit permutations of every Halton dimension for one seed (pbrt-v4's
+/// `ComputeRadicalInversePermutations`), each made on first use and shared
+/// by all clones of a sampler.
+#[derive(Clone, Debug)]
+pub struct RadicalInversePermutations {
+    seed: u32,
+    per_dimension: Arc<[OnceLock<DigitPermutation>]>,
+}
+
+impl RadicalInversePermutations {
+    pub fn new(seed: u32) -> Self {
+        RadicalInversePermutations {
+            seed,
+            per_dimension: (0..PRIME_TABLE_SIZE).map(|_| OnceLock::new()).collect(),
+        }
+    }
+
+    /// The permutations for dimension `dimension` (base `PRIMES[dimension]`);
+    /// `dimension` must be below [`PRIME_TABLE_SIZE`].
+    pub fn get(&self, dimension: usize) -> &DigitPermutation {
+        let dimension = dimension.min(PRIME_TABLE_SIZE - 1);
+        self.per_dimension[dimension]
+            .get_or_init(|| DigitPermutation::new(PRIMES[dimension], self.seed))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn digit_counts_cover_f32_precision() {
+        // 1 - 2^-k < 1 in f32 for k up to 24.
+        assert_eq!(f32_digit_count(2), 25);
+        assert!(f32_digit_count(3) >= 15);
+        assert!(f32_digit_count(7919) >= 2);
+    }
+
+    #[test]
+    fn each_position_is_a_permutation() {
+        for base in [2u32, 3, 5, 7919] {
+            let p = DigitPermutation::new(base, 17);
+            for digit_index in 0..f32_digit_count(base) {
+                let mut seen = vec![false; base as usize];
+                for value in 0..base {
+                    let v = p.permute(digit_index, value) as usize;
+                    assert!(!seen[v]);
+                    seen[v] = true;
+                }
+            }
+        }
+    }
+}

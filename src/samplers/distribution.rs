@@ -1,0 +1,288 @@
+//! Piecewise-constant distributions in 1D and 2D: sampling a tabulated
+//! function in proportion to its absolute value (pbrt-v4's
+//! `PiecewiseConstant1D` and `PiecewiseConstant2D`). Used by the filters'
+//! tabulated sampling, and meant for image lights as well.
+
+use glam::{UVec2, Vec2};
+
+/// A rectangle `[min, max]` a 2D distribution is defined over.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Domain2D {
+    pub min: Vec2,
+    pub max: Vec2,
+}
+
+impl Domain2D {
+    /// [0, 1]².
+    pub const UNIT: Domain2D = Domain2D {
+        min: Vec2::ZERO,
+        max: Vec2::ONE,
+    };
+
+    pub fn new(min: Vec2, max: Vec2) -> Self {
+        Domain2D { min, max }
+    }
+
+    /// Where `p` lies, as a fraction of the extent along each axis.
+    pub fn offset(&self, p: Vec2) -> Vec2 {
+        let extent = self.max - self.min;
+        let mut o = p - self.min;
+        if extent.x > 0.0 {
+            o.x /= extent.x;
+        }
+        if extent.y > 0.0 {
+            o.y /= extent.y;
+        }
+        o
+    }
+
+    /// The point at fraction `t` of the extent along each axis.
+    pub fn lerp(&self, t: Vec2) -> Vec2 {
+        (Vec2::ONE - t) * self.min + t * self.max
+    }
+}
+
+/// A step function on `[min, max]` with equal-width steps, and the means to
+/// sample it in proportion to its absolute value.
+#[derive(Clone, Debug, PartialEq)]
+pub struct PiecewiseConstant1D {
+    /// |f| on each step.
+    function: Vec<f32>,
+    /// The normalized running integral at each step boundary (n + 1 values,
+    /// from 0 to 1).
+    cdf: Vec<f32>,
+    min: f32,
+    max: f32,
+    /// ∫|f| over [min, max].
+    integral: f32,
+}
+
+impl PiecewiseConstant1D {
+    /// The distribution of `|function|`, its values on equal steps over
+    /// `[min, max]`. An all-zero function samples uniformly (with pdf 0);
+    /// an empty one is taken as a single zero step.
+    pub fn new(function: &[f32], min: f32, max: f32) -> Self {
+        let mut function: Vec<f32> = function.iter().map(|f| f.abs()).collect();
+        if function.is_empty() {
+            function.push(0.0);
+        }
+        let n = function.len();
+        let mut cdf = Vec::with_capacity(n + 1);
+        cdf.push(0.0f32);
+        for i in 1..=n {
+            cdf.push(cdf[i - 1] + function[i - 1] * (max - min) / n as f32);
+        }
+        let integral = cdf[n];
+        if integral == 0.0 {
+            for (i, c) in cdf.iter_mut().enumerate().skip(1) {
+                *c = i as f32 / n as f32;
+            }
+        } else {
+            for c in cdf.iter_mut().skip(1) {
+                *c /= integral;
+            }
+        }
+        PiecewiseConstant1D {
+            function,
+            cdf,
+            min,
+            max,
+            integral,
+        }
+    }
+
+    /// ∫|f| over the domain.
+    pub fn integral(&self) -> f32 {
+        self.integral
+    }
+
+    /// Number of steps.
+    pub fn size(&self) -> usize {
+        self.function.len()
+    }
+
+    /// |f| on each step.
+    pub fn function(&self) -> &[f32] {
+        &self.function
+    }
+
+    /// Samples with `u` in [0, 1): the point, its density, and the index of
+    /// the step it lies in.
+    pub fn sample(&self, u: f32) -> (f32, f32, usize) {
+        let offset = find_interval(&self.cdf, u);
+        let mut du = u - self.cdf[offset];
+        let step_mass = self.cdf[offset + 1] - self.cdf[offset];
+        if step_mass > 0.0 {
+            du /= step_mass;
+        }
+        let pdf = if self.integral > 0.0 {
+            self.function[offset] / self.integral
+        } else {
+            0.0
+        };
+        let t = (offset as f32 + du) / self.size() as f32;
+        ((1.0 - t) * self.min + t * self.max, pdf, offset)
+    }
+}
+
+/// The last index `i` in `0..cdf.len() - 1` with `cdf[i] <= u` (clamped to
+/// that range), by binary search: the step `u` falls in.
+fn find_interval(cdf: &[f32], u: f32) -> usize {
+    let last = cdf.len().saturating_sub(2);
+    let mut size = cdf.len().saturating_sub(2);
+    let mut first = 1usize;
+    while size > 0 {
+        let half = size >> 1;
+        let middle = first + half;
+        if cdf[middle] <= u {
+            first = middle + 1;
+            size -= half + 1;
+        } else {
+            size = half;
+        }
+    }
+    first.saturating_sub(1).min(last)
+}
+
+/// A 2D step function on a grid over a rectangle, sampled in proportion to
+/// its absolute value: a marginal distribution over rows (v) and a
+/// conditional one within each row (u).
+#[derive(Clone, Debug, PartialEq)]
+pub struct PiecewiseConstant2D {
+    domain: Domain2D,
+    /// One distribution over u per row.
+    conditional: Vec<PiecewiseConstant1D>,
+    /// The distribution over rows of each row's integral.
+    marginal: PiecewiseConstant1D,
+}
+
+impl PiecewiseConstant2D {
+    /// The distribution of `|function|`, given row by row (`nu` values per
+    /// row, u fastest, `nv` rows) over `domain`. Missing values count as 0;
+    /// `nu` and `nv` are taken as at least 1.
+    pub fn new(function: &[f32], nu: usize, nv: usize, domain: Domain2D) -> Self {
+        let (nu, nv) = (nu.max(1), nv.max(1));
+        let conditional: Vec<PiecewiseConstant1D> = (0..nv)
+            .map(|v| {
+                let row: Vec<f32> = (0..nu)
+                    .map(|u| function.get(v * nu + u).copied().unwrap_or(0.0))
+                    .collect();
+                PiecewiseConstant1D::new(&row, domain.min.x, domain.max.x)
+            })
+            .collect();
+        let row_integrals: Vec<f32> = conditional.iter().map(|c| c.integral()).collect();
+        let marginal = PiecewiseConstant1D::new(&row_integrals, domain.min.y, domain.max.y);
+        PiecewiseConstant2D {
+            domain,
+            conditional,
+            marginal,
+        }
+    }
+
+    pub fn domain(&self) -> Domain2D {
+        self.domain
+    }
+
+    /// ∫|f| over the domain.
+    pub fn integral(&self) -> f32 {
+        self.marginal.integral()
+    }
+
+    /// Samples with `u` in [0, 1)²: the point and its density.
+    pub fn sample(&self, u: Vec2) -> (Vec2, f32) {
+        let (p, pdf, _) = self.sample_with_cell(u);
+        (p, pdf)
+    }
+
+    /// Samples with `u` in [0, 1)²: the point, its density, and the grid
+    /// cell (column, row) it lies in.
+    pub fn sample_with_cell(&self, u: Vec2) -> (Vec2, f32, UVec2) {
+        let (y, pdf_y, row) = self.marginal.sample(u.y);
+        let (x, pdf_x, column) = self.conditional[row].sample(u.x);
+        (
+            Vec2::new(x, y),
+            pdf_x * pdf_y,
+            UVec2::new(column as u32, row as u32),
+        )
+    }
+
+    /// The density of sampling `p` (a point of the domain).
+    pub fn pdf(&self, p: Vec2) -> f32 {
+        let o = self.domain.offset(p);
+        let nu = self.conditional[0].size();
+        let nv = self.marginal.size();
+        let column = ((o.x * nu as f32) as i64).clamp(0, nu as i64 - 1) as usize;
+        let row = ((o.y * nv as f32) as i64).clamp(0, nv as i64 - 1) as usize;
+        let integral = self.marginal.integral();
+        if integral == 0.0 {
+            return 0.0;
+        }
+        self.conditional[row].function()[column] / integral
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn one_dimensional_sampling_follows_the_function() {
+        let d = PiecewiseConstant1D::new(&[1.0, -3.0, 0.0, 4.0], 0.0, 2.0);
+        assert_eq!(d.integral(), 4.0);
+        let (x, pdf, offset) = d.sample(0.0);
+        assert_eq!((x, pdf, offset), (0.0, 0.25, 0));
+        // The second step holds cdf mass 3/8 starting at 1/8.
+        let (x, pdf, offset) = d.sample(0.125 + 0.375 / 2.0);
+        assert_eq!(offset, 1);
+        assert!((x - 0.75).abs() < 1e-6);
+        assert_eq!(pdf, 0.75);
+        // Zero steps are never chosen.
+        for i in 0..1000 {
+            let (_, _, offset) = d.sample(i as f32 / 1000.0);
+            assert_ne!(offset, 2);
+        }
+        let (_, _, offset) = d.sample(ONE_BELOW_ONE);
+        assert_eq!(offset, 3);
+    }
+
+    const ONE_BELOW_ONE: f32 = 1.0 - f32::EPSILON / 2.0;
+
+    #[test]
+    fn zero_function_samples_uniformly() {
+        let d = PiecewiseConstant1D::new(&[0.0, 0.0], -1.0, 1.0);
+        let (x, pdf, _) = d.sample(0.75);
+        assert_eq!((x, pdf), (0.5, 0.0));
+        let empty = PiecewiseConstant1D::new(&[], 0.0, 1.0);
+        assert_eq!(empty.sample(0.5).0, 0.5);
+    }
+
+    #[test]
+    fn two_dimensional_pdf_integrates_to_one_and_matches_sampling() {
+        let nu = 4;
+        let nv = 3;
+        let function: Vec<f32> = (0..nu * nv).map(|i| (i % 5) as f32 - 1.0).collect();
+        let domain = Domain2D::new(Vec2::new(-1.0, 0.0), Vec2::new(1.0, 3.0));
+        let d = PiecewiseConstant2D::new(&function, nu, nv, domain);
+        let cell_area = (2.0 / nu as f32) * (3.0 / nv as f32);
+        let mut total = 0.0;
+        for v in 0..nv {
+            for u in 0..nu {
+                let p = domain.lerp(Vec2::new(
+                    (u as f32 + 0.5) / nu as f32,
+                    (v as f32 + 0.5) / nv as f32,
+                ));
+                total += d.pdf(p) * cell_area;
+            }
+        }
+        assert!((total - 1.0).abs() < 1e-5);
+        for i in 0..50 {
+            for j in 0..50 {
+                let u = Vec2::new((i as f32 + 0.5) / 50.0, (j as f32 + 0.5) / 50.0);
+                let (p, pdf, cell) = d.sample_with_cell(u);
+                assert!((d.pdf(p) - pdf).abs() < 1e-5);
+                assert!(pdf > 0.0);
+                assert_ne!(function[cell.y as usize * nu + cell.x as usize], 0.0);
+            }
+        }
+    }
+}

@@ -1,0 +1,117 @@
+//! The global Sobol' sampler: one Sobol' sequence over the whole image, its
+//! first two dimensions spread over the pixels.
+
+use super::hash::hash_words;
+use super::randomize_strategy::{BinaryScrambler, RandomizeStrategy};
+use super::sobol_interval::sobol_interval_to_index;
+use super::sobol_matrices::SOBOL_DIMENSIONS;
+use super::sobol_sample::sobol_sample;
+use super::ONE_MINUS_EPSILON;
+use glam::{IVec2, Vec2};
+
+/// Samples from one image-wide Sobol' sequence (pbrt-v4's `SobolSampler`).
+///
+/// | parameter         | type    | default      | values                                              |
+/// |-------------------|---------|--------------|-----------------------------------------------------|
+/// | `"pixelsamples"`  | integer | 16           | best a power of two                                 |
+/// | `"seed"`          | integer | `--seed`     |                                                     |
+/// | `"randomization"` | string  | `"fastowen"` | `"none"`, `"permutedigits"`, `"fastowen"`, `"owen"` |
+///
+/// Dimensions 0 and 1, over a square of 2^m pixels a side covering the
+/// image, are the film position: a pixel's samples are the Sobol' points
+/// that fall in it, and they are never scrambled. Other requests start at
+/// dimension 2 and wrap back to 2 after dimension 1023. Images wider or
+/// taller than 2^25 pixels are not supported.
+#[derive(Clone, Debug)]
+pub struct SobolSampler {
+    samples_per_pixel: u32,
+    /// The power of two at least the image's larger side.
+    scale: i32,
+    log2_scale: u32,
+    seed: i32,
+    randomize: RandomizeStrategy,
+    pixel: IVec2,
+    dimension: usize,
+    sobol_index: u64,
+}
+
+impl SobolSampler {
+    /// `full_resolution`'s sides must be between 1 and 2^25.
+    pub fn new(
+        samples_per_pixel: u32,
+        full_resolution: IVec2,
+        randomize: RandomizeStrategy,
+        seed: i32,
+    ) -> Self {
+        let largest_side = full_resolution.x.max(full_resolution.y).max(1) as u32;
+        let scale = largest_side.next_power_of_two();
+        SobolSampler {
+            samples_per_pixel,
+            scale: scale as i32,
+            log2_scale: scale.trailing_zeros(),
+            seed,
+            randomize,
+            pixel: IVec2::ZERO,
+            dimension: 0,
+            sobol_index: 0,
+        }
+    }
+
+    pub fn samples_per_pixel(&self) -> u32 {
+        self.samples_per_pixel
+    }
+
+    pub fn start_pixel_sample(&mut self, pixel: IVec2, sample_index: u32, dimension: u32) {
+        self.pixel = pixel;
+        self.dimension = (dimension as usize).max(2);
+        self.sobol_index = sobol_interval_to_index(self.log2_scale, u64::from(sample_index), pixel);
+    }
+
+    fn sample_dimension(&self, dimension: usize) -> f32 {
+        let scrambler = match self.randomize {
+            RandomizeStrategy::None => BinaryScrambler::None,
+            strategy => {
+                let hash = hash_words(&[dimension as u32, self.seed as u32]) as u32;
+                BinaryScrambler::new(strategy, hash)
+            }
+        };
+        sobol_sample(self.sobol_index, dimension, scrambler)
+    }
+
+    pub fn get_1d(&mut self) -> f32 {
+        if self.dimension >= SOBOL_DIMENSIONS {
+            self.dimension = 2;
+        }
+        let dimension = self.dimension;
+        self.dimension += 1;
+        self.sample_dimension(dimension)
+    }
+
+    pub fn get_2d(&mut self) -> Vec2 {
+        if self.dimension + 1 >= SOBOL_DIMENSIONS {
+            self.dimension = 2;
+        }
+        let dimension = self.dimension;
+        self.dimension += 2;
+        Vec2::new(
+            self.sample_dimension(dimension),
+            self.sample_dimension(dimension + 1),
+        )
+    }
+
+    pub fn get_pixel_2d(&mut self) -> Vec2 {
+        let scale = self.scale as f32;
+        let to_pixel =
+            |u: f32, pixel: i32| (u * scale - pixel as f32).clamp(0.0, ONE_MINUS_EPSILON);
+        Vec2::new(
+            to_pixel(
+                sobol_sample(self.sobol_index, 0, BinaryScrambler::None),
+                self.pixel.x,
+            ),
+            to_pixel(
+                sobol_sample(self.sobol_index, 1, BinaryScrambler::None),
+                self.pixel.y,
+            ),
+        )
+    }
+}
