@@ -8,6 +8,7 @@ pub mod error;
 pub mod interaction;
 pub mod math;
 pub mod scene;
+pub mod shapes;
 pub mod spectrum;
 pub mod tools;
 
