@@ -376,3 +376,126 @@ fn push_bilinear_mesh(storage: &mut ShapeStorage, mesh: BilinearPatchMesh) -> Ve
         .map(|index| Shape::BilinearPatch(BilinearPatch::new(mesh_index, index)))
         .collect()
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::load_text;
+
+    /// The shapes of a scene's world block, created with each shape's own
+    /// transform as render-from-object.
+    fn create_all(
+        directory: &Path,
+        world: &str,
+    ) -> (Result<Vec<Shape>>, ShapeStorage, Vec<Warning>) {
+        let text = format!("WorldBegin\n{world}\n");
+        let loaded = load_text(&directory.join("scene.pbrt"), &text).unwrap();
+        let mut storage = ShapeStorage::default();
+        let mut warnings = Vec::new();
+        let mut all = Vec::new();
+        for shape in &loaded.scene.shapes {
+            let transform = loaded.scene.transform(shape.world_from_object).start;
+            match create_shapes(
+                shape,
+                &transform,
+                shape.reverse_orientation,
+                directory,
+                &mut storage,
+                &mut warnings,
+            ) {
+                Ok(mut shapes) => all.append(&mut shapes),
+                Err(e) => return (Err(e), storage, warnings),
+            }
+        }
+        (Ok(all), storage, warnings)
+    }
+
+    fn temporary_directory(test: &str) -> std::path::PathBuf {
+        let dir = std::env::temp_dir().join(format!("rpbrt-shapes-{}-{test}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    #[test]
+    fn every_supported_shape_is_created_in_render_space() {
+        let dir = temporary_directory("create");
+        std::fs::write(
+            dir.join("quad.ply"),
+            "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n\
+element face 2\nproperty list uchar int vertex_indices\nend_header\n\
+0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n5 0 1 2 3 0\n",
+        )
+        .unwrap();
+        let world = r#"
+            AttributeBegin
+              Translate 0 0 10
+              Shape "sphere" "float radius" 2
+              Shape "disk" "float radius" 3 "float height" 1
+              ReverseOrientation
+              Shape "cylinder" "float zmin" 0 "float zmax" 2
+            AttributeEnd
+            Shape "trianglemesh" "point3 P" [0 0 0 1 0 0 1 1 0 0 1 0] "integer indices" [0 1 2 0 2 3]
+            Shape "bilinearmesh" "point3 P" [0 0 5 1 0 5 0 1 5 1 1 5]
+            Translate 0 0 -3
+            Shape "plymesh" "string filename" "quad.ply"
+        "#;
+        let (shapes, storage, warnings) = create_all(&dir, world);
+        let shapes = shapes.unwrap();
+        assert_eq!(shapes.len(), 3 + 2 + 1 + 1);
+        assert!(matches!(shapes[0], Shape::Sphere(_)));
+        assert!(matches!(shapes[1], Shape::Disk(_)));
+        assert!(matches!(shapes[2], Shape::Cylinder(_)));
+        assert!(matches!(shapes[3], Shape::Triangle(Triangle { mesh: 0, index: 0 })));
+        assert!(matches!(shapes[4], Shape::Triangle(Triangle { mesh: 0, index: 1 })));
+        assert!(matches!(shapes[5], Shape::BilinearPatch(BilinearPatch { mesh: 0, index: 0 })));
+        assert!(matches!(shapes[6], Shape::BilinearPatch(BilinearPatch { mesh: 1, index: 0 })));
+        assert_eq!(storage.triangle_meshes.len(), 1);
+        assert_eq!(storage.bilinear_meshes.len(), 2);
+        // The pentagon of the PLY file was skipped with a warning.
+        assert_eq!(warnings.len(), 1);
+        assert!(warnings[0].message.contains("neither triangles nor quads"));
+
+        let sphere_bounds = shapes[0].bounds(&storage);
+        assert_eq!(sphere_bounds.min, Vec3::new(-2.0, -2.0, 8.0));
+        assert_eq!(sphere_bounds.max, Vec3::new(2.0, 2.0, 12.0));
+        // Shoot down the z axis through everything: the sphere's top first.
+        let ray = Ray::new(Vec3::new(0.25, 0.5, 20.0), -Vec3::Z, 0.0);
+        let nearest = shapes
+            .iter()
+            .enumerate()
+            .filter_map(|(i, s)| s.intersect(&storage, &ray, f32::INFINITY).map(|h| (i, h.t_hit)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .unwrap();
+        assert_eq!(nearest.0, 0);
+        let t_of = |i: usize| shapes[i].intersect(&storage, &ray, f32::INFINITY).map(|h| h.t_hit);
+        assert!((t_of(1).unwrap() - 9.0).abs() < 1e-5, "disk at z = 11");
+        assert!(t_of(2).is_none(), "the cylinder's axis is the ray's neighbour, not its target");
+        assert!(t_of(3).is_none(), "(0.25, 0.5) is in the second triangle");
+        assert!((t_of(4).unwrap() - 20.0).abs() < 1e-5);
+        assert!((t_of(5).unwrap() - 15.0).abs() < 1e-5);
+        assert!((t_of(6).unwrap() - 23.0).abs() < 1e-5, "plymesh at z = −3");
+        // The reversed cylinder's normals point inwards.
+        let side = Ray::new(Vec3::new(5.0, 0.0, 11.0), -Vec3::X, 0.0);
+        let hit = shapes[2].intersect(&storage, &side, f32::INFINITY).unwrap();
+        assert!((hit.interaction.n + Vec3::X).length() < 1e-5);
+        assert!((shapes[5].area(&storage) - 1.0).abs() < 1e-6);
+        assert!(shapes.iter().all(|s| s.face_index(&storage) == 0));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn unsupported_and_broken_shapes_are_errors() {
+        let dir = temporary_directory("errors");
+        let error = |world: &str| create_all(&dir, world).0.unwrap_err().to_string();
+        let e = error(r#"Shape "loopsubdiv" "integer indices" [0 1 2] "point3 P" [0 0 0 1 0 0 0 1 0]"#);
+        assert!(e.contains("shape \"loopsubdiv\" is not supported yet"), "{e}");
+        let e = error(r#"Shape "plymesh" "string filename" "mesh.ply" "float displacement" 0.1"#);
+        assert!(e.contains("plymesh displacement is not supported yet"), "{e}");
+        let e = error(r#"Shape "plymesh" "string filename" "missing.ply""#);
+        assert!(e.contains("missing.ply"), "{e}");
+        let e = error(r#"Shape "trianglemesh" "point3 P" [0 0 0 1 0 0 0 1 0] "integer indices" [0 1 7]"#);
+        assert!(e.contains("\"indices\" values out of range: 7") && e.contains("scene.pbrt:2:"), "{e}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

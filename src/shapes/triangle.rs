@@ -601,6 +601,59 @@ mod tests {
     }
 
     #[test]
+    fn rays_exactly_through_vertices_and_edges_hit() {
+        // A flat grid with exactly representable vertices: rays aimed
+        // exactly at vertices and edge midpoints make edge functions exactly
+        // zero, which a non-watertight test would treat as a miss.
+        let n = 8;
+        let mut positions = Vec::new();
+        for j in 0..=n {
+            for i in 0..=n {
+                positions.push(Vec3::new(i as f32 / n as f32, j as f32 / n as f32, 0.0));
+            }
+        }
+        let mut indices = Vec::new();
+        for j in 0..n as u32 {
+            for i in 0..n as u32 {
+                let v00 = j * (n as u32 + 1) + i;
+                let (v10, v01, v11) = (v00 + 1, v00 + n as u32 + 1, v00 + n as u32 + 2);
+                indices.extend([v00, v10, v11, v00, v11, v01]);
+            }
+        }
+        let mesh = TriangleMesh::new(
+            &Transform::IDENTITY,
+            false,
+            MeshData {
+                vertex_indices: indices,
+                positions,
+                ..MeshData::default()
+            },
+        );
+        let triangles: Vec<Triangle> = (0..mesh.triangle_count() as u32).map(|i| Triangle::new(0, i)).collect();
+        let directions = [
+            -Vec3::Z,
+            Vec3::Z,
+            Vec3::new(0.125, 0.0625, -1.0),
+            Vec3::new(-0.25, 0.5, -1.0),
+            Vec3::new(1.0, 1.0, -1.0),
+        ];
+        let mut tested = 0;
+        for j in 1..2 * n {
+            for i in 1..2 * n {
+                // Vertices (both even), edge midpoints and diagonal midpoints.
+                let target = Vec3::new(i as f32 / (2 * n) as f32, j as f32 / (2 * n) as f32, 0.0);
+                for d in directions {
+                    let ray = Ray::new(target - 4.0 * d, d, 0.0);
+                    let hits = triangles.iter().filter(|t| t.intersect_p(&mesh, &ray, f32::INFINITY)).count();
+                    assert!(hits >= 1, "ray along {d} at {target} slipped through");
+                    tested += 1;
+                }
+            }
+        }
+        assert_eq!(tested, 15 * 15 * directions.len());
+    }
+
+    #[test]
     fn spawned_rays_never_rehit_the_triangle() {
         let mut rng = TestRng::new(23);
         for case in 0..10_000 {
