@@ -57,6 +57,7 @@ impl TestRng {
     }
 }
 
+use crate::math::Frame;
 use crate::shapes::{Shape, ShapeSampleContext, ShapeStorage};
 
 /// Mean and standard error of a list of values.
@@ -67,17 +68,72 @@ pub fn mean_and_error(values: &[f64]) -> (f64, f64) {
     (mean, (variance / n).sqrt())
 }
 
+/// The cone from `ctx.p` bounding a shape (its bounds' bounding sphere),
+/// or the whole sphere of directions when `ctx.p` is inside that.
+pub struct BoundingCone {
+    pub axis: Vec3,
+    pub cos_theta_max: f32,
+    frame: Frame,
+}
+
+impl BoundingCone {
+    pub fn new(shape: &Shape, storage: &ShapeStorage, ctx: &ShapeSampleContext) -> Self {
+        let (center, radius) = shape.bounds(storage).bounding_sphere();
+        let to_center = center - ctx.p;
+        let distance = to_center.length();
+        let (axis, cos_theta_max) = if distance <= radius * 1.0001 {
+            (Vec3::Z, -1.0)
+        } else {
+            let sin = radius / distance;
+            (to_center / distance, (1.0 - sin * sin).max(0.0).sqrt())
+        };
+        BoundingCone {
+            axis,
+            cos_theta_max,
+            frame: Frame::from_z(axis),
+        }
+    }
+
+    pub fn solid_angle(&self) -> f64 {
+        2.0 * std::f64::consts::PI * (1.0 - self.cos_theta_max as f64)
+    }
+
+    /// A uniformly distributed direction in the cone.
+    pub fn sample(&self, u: Vec2) -> Vec3 {
+        let cos_theta = 1.0 - u.x * (1.0 - self.cos_theta_max);
+        let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
+        let phi = 2.0 * std::f32::consts::PI * u.y;
+        self.frame
+            .from_local(Vec3::new(sin_theta * phi.cos(), sin_theta * phi.sin(), cos_theta))
+    }
+
+    /// A positive test function that varies across the cone by O(1), both
+    /// radially and sideways: 1 + r + ½s, r ∈ [0, 1] the normalised angle
+    /// from the axis, s ∈ [−1, 1] the normalised offset along the frame's x.
+    pub fn test_function(&self, w: Vec3) -> f64 {
+        let radial = (1.0 - w.dot(self.axis)) / (1.0 - self.cos_theta_max);
+        let sin_theta_max = (1.0 - self.cos_theta_max * self.cos_theta_max).max(0.0).sqrt();
+        let sideways = if self.cos_theta_max > 0.0 {
+            w.dot(self.frame.x) / sin_theta_max
+        } else {
+            w.dot(self.frame.x)
+        };
+        1.0 + radial as f64 + 0.5 * sideways as f64
+    }
+}
+
 /// Checks that every direction `sample_from` gives from `ctx` hits the
 /// shape (bar a few through silhouettes and edges, which may miss by
 /// rounding) and that, where the first hit is the sampled point,
 /// `pdf_from` gives the sample's density. Returns 1/pdf and f(ω)/pdf per
-/// sample (0 for failed samples), for [`TEST_FUNCTION`].
+/// sample (0 for failed samples).
 pub fn check_sample_densities(
     shape: &Shape,
     storage: &ShapeStorage,
     ctx: &ShapeSampleContext,
     samples: usize,
     rng: &mut TestRng,
+    f: impl Fn(Vec3) -> f64,
 ) -> (Vec<f64>, Vec<f64>) {
     let mut inverse_pdfs = Vec::with_capacity(samples);
     let mut weighted = Vec::with_capacity(samples);
@@ -92,7 +148,7 @@ pub fn check_sample_densities(
         assert!(sample.pdf > 0.0 && sample.pdf.is_finite(), "sample {i}: pdf {}", sample.pdf);
         let wi = (sample.p - ctx.p).normalize();
         inverse_pdfs.push(1.0 / sample.pdf as f64);
-        weighted.push(TEST_FUNCTION(wi) / sample.pdf as f64);
+        weighted.push(f(wi) / sample.pdf as f64);
         let Some(hit) = shape.intersect(storage, &ctx.spawn_ray(wi), f32::INFINITY) else {
             misses += 1;
             continue;
@@ -113,20 +169,14 @@ pub fn check_sample_densities(
     (inverse_pdfs, weighted)
 }
 
-/// A smooth, positive, non-constant function of direction.
-pub const TEST_FUNCTION: fn(Vec3) -> f64 = |w: Vec3| {
-    let axis = Vec3::new(0.3, -0.5, 0.8).normalize();
-    let x = 1.0 + w.dot(axis) as f64;
-    x * x
-};
-
 /// Checks `sample_from`/`pdf_from` of a shape seen from `ctx`:
 /// - [`check_sample_densities`];
 /// - E[1/pdf] (the Monte Carlo estimate of ∫ 1 dω) matches the analytic
 ///   solid angle `expected_solid_angle` within noise;
-/// - the estimate of ∫ f dω for a smooth non-constant f matches an
-///   estimate from uniformly distributed directions (so the samples have
-///   the density they claim, not just the right normalisation).
+/// - the estimate of ∫ f dω for a test function f varying strongly across
+///   the shape matches an estimate from directions uniform in a cone
+///   bounding the shape (so the samples have the density they claim, not
+///   just the right normalisation).
 pub fn check_solid_angle_sampling(
     shape: &Shape,
     storage: &ShapeStorage,
@@ -135,7 +185,9 @@ pub fn check_solid_angle_sampling(
     seed: u64,
 ) {
     let mut rng = TestRng::new(seed);
-    let (inverse_pdfs, weighted) = check_sample_densities(shape, storage, ctx, 40_000, &mut rng);
+    let cone = BoundingCone::new(shape, storage, ctx);
+    let f = |w: Vec3| cone.test_function(w);
+    let (inverse_pdfs, weighted) = check_sample_densities(shape, storage, ctx, 40_000, &mut rng, f);
     let (mean, error) = mean_and_error(&inverse_pdfs);
     let expected = expected_solid_angle as f64;
     assert!(
@@ -144,13 +196,17 @@ pub fn check_solid_angle_sampling(
     );
 
     // Reference ∫ f dω over the directions that hit the shape.
-    let reference_n = 400_000;
-    let mut reference = Vec::with_capacity(reference_n);
-    for _ in 0..reference_n {
-        let w = rng.direction();
-        let hits = shape.intersect_p(storage, &ctx.spawn_ray(w), f32::INFINITY);
-        reference.push(if hits { 4.0 * std::f64::consts::PI * TEST_FUNCTION(w) } else { 0.0 });
-    }
+    let reference: Vec<f64> = (0..400_000)
+        .map(|_| {
+            let w = cone.sample(rng.uniform2());
+            let hits = shape.intersect_p(storage, &ctx.spawn_ray(w), f32::INFINITY);
+            if hits {
+                cone.solid_angle() * f(w)
+            } else {
+                0.0
+            }
+        })
+        .collect();
     let (reference_mean, reference_error) = mean_and_error(&reference);
     let (estimate, estimate_error) = mean_and_error(&weighted);
     let tolerance = 4.0 * (reference_error.hypot(estimate_error)) + 1e-3 * reference_mean;
