@@ -21,7 +21,9 @@
 //! the bilinear cos θ warp at surface receivers) unless they subtend less
 //! than 10⁻⁴ sr; other patches by approximately uniform area (a bilinear
 //! warp by the corner area densities). pbrt-v4's `emissionfilename`
-//! image-driven sampling is not supported.
+//! image-driven sampling is not supported. `pdf_from` evaluates the area
+//! density at the hit's parametric (u,v) directly (pbrt-v4 recovers it by
+//! inverting the interpolated texture coordinates).
 
 use super::mesh::BilinearPatchMesh;
 use super::spherical::{invert_spherical_rectangle_sample, sample_spherical_rectangle, spherical_quad_area};
@@ -40,7 +42,8 @@ use glam::{Vec2, Vec3};
 /// area.
 const MIN_SPHERICAL_SAMPLE_AREA: f32 = 1e-4;
 
-/// Patch `index` of mesh `mesh` of a [`ShapeStorage`].
+/// Patch `index` of mesh `mesh` of a [`ShapeStorage`] (the `bilinearmesh`
+/// parameters and conventions: see the module documentation).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct BilinearPatch {
     pub mesh: u32,

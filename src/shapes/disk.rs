@@ -28,6 +28,8 @@ use crate::scene::params::ParamSet;
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
 
+/// pbrt-v4's `disk` (parameters and conventions: see the module
+/// documentation).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Disk {
     transform: ObjectTransform,

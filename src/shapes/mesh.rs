@@ -7,26 +7,9 @@
 //! reversed and whether its transform swaps handedness: the two decide the
 //! side of the geometric normal when there are no per-vertex normals.
 //!
-//! `trianglemesh` parameters:
-//!
-//! | parameter     | type      | default              | meaning                             |
-//! |---------------|-----------|----------------------|-------------------------------------|
-//! | `P`           | point3[]  | required             | vertex positions                    |
-//! | `indices`     | integer[] | `0 1 2` if 3 `P`s     | 3 vertex indices per triangle       |
-//! | `N`           | normal[]  | none                 | per-vertex shading normals          |
-//! | `S`           | vector3[] | none                 | per-vertex shading tangents         |
-//! | `uv`          | point2[]  | (0,0) (1,0) (1,1)    | per-vertex (u,v)                    |
-//! | `faceIndices` | integer[] | none                 | per-triangle face index (Ptex)      |
-//!
-//! `bilinearmesh` parameters (vertices of a patch: p00 p10 p01 p11):
-//!
-//! | parameter     | type      | default              | meaning                             |
-//! |---------------|-----------|----------------------|-------------------------------------|
-//! | `P`           | point3[]  | required             | vertex positions                    |
-//! | `indices`     | integer[] | `0 1 2 3` if 4 `P`s   | 4 vertex indices per patch          |
-//! | `N`           | normal[]  | none                 | per-vertex shading normals          |
-//! | `uv`          | point2[]  | the patch's (u,v)    | per-vertex (u,v)                    |
-//! | `faceIndices` | integer[] | none                 | per-patch face index (Ptex)         |
+//! The parameters of `trianglemesh` and `bilinearmesh` are tabulated in
+//! [`super::triangle`] and [`super::bilinear`]; this module reads and
+//! checks them.
 //!
 //! Unlike pbrt-v4, which reports most inconsistencies and then drops the
 //! offending data (or the mesh), rpbrt refuses such a scene with an error

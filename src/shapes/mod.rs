@@ -485,6 +485,11 @@ element face 2\nproperty list uchar int vertex_indices\nend_header\n\
     }
 
     #[test]
+    fn a_shape_is_as_small_as_a_mesh_face_reference() {
+        assert_eq!(std::mem::size_of::<Shape>(), 16);
+    }
+
+    #[test]
     fn unsupported_and_broken_shapes_are_errors() {
         let dir = temporary_directory("errors");
         let error = |world: &str| create_all(&dir, world).0.unwrap_err().to_string();

@@ -13,7 +13,9 @@
 //! `vertex_indices` (also accepted: `vertex_index`) and `face_indices`.
 //! Triangles become a triangle mesh; quads become bilinear patches, their
 //! vertices 0 1 3 2 taken as p00 p10 p01 p11 (as pbrt-v4 does). Faces with
-//! other vertex counts are skipped (pbrt warns about them).
+//! other vertex counts are skipped (pbrt warns about them). `face_indices`
+//! are split between the two meshes in face order (pbrt-v4 hands the whole
+//! list to both, which only works when all faces are of one kind).
 //!
 //! Elements are parsed straight into small typed structs (no per-element
 //! maps), so large meshes read quickly.

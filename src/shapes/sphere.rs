@@ -36,6 +36,8 @@ use std::f32::consts::PI;
 /// sin²(1.5°): below it, cone sampling uses Taylor expansions.
 const SMALL_CONE_SIN2: f32 = 0.000_685_23;
 
+/// pbrt-v4's `sphere` (parameters and conventions: see the module
+/// documentation).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Sphere {
     transform: ObjectTransform,

@@ -23,7 +23,9 @@
 //! Sampling from a point uses pbrt-v4's spherical triangle sampling, warped
 //! bilinearly towards cos θ at the receiver when it has a surface normal;
 //! triangles subtending very small (< 2·10⁻⁴ sr) or very large (> 6.22 sr)
-//! solid angles are sampled by area instead.
+//! solid angles are sampled by area instead. `pdf_from` returns 0 for
+//! directions that miss the triangle (pbrt-v4 returns the spherical
+//! density regardless; its callers only ask about directions that hit).
 
 use super::mesh::TriangleMesh;
 use super::spherical::{invert_spherical_triangle_sample, sample_spherical_triangle, spherical_triangle_area};
@@ -48,7 +50,8 @@ const MIN_SPHERICAL_SAMPLE_AREA: f32 = 2e-4;
 /// Above this solid angle (sr) triangles are sampled by area.
 const MAX_SPHERICAL_SAMPLE_AREA: f32 = 6.22;
 
-/// Triangle `index` of mesh `mesh` of a [`ShapeStorage`].
+/// Triangle `index` of mesh `mesh` of a [`ShapeStorage`] (the
+/// `trianglemesh` parameters and conventions: see the module documentation).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Triangle {
     pub mesh: u32,
