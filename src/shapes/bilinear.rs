@@ -27,9 +27,9 @@
 
 use super::mesh::BilinearPatchMesh;
 use super::spherical::{invert_spherical_rectangle_sample, sample_spherical_rectangle, spherical_quad_area};
+use super::numeric::difference_of_products;
 use super::surface::{
-    difference_of_products, face_forward, set_shading_geometry, surface_interaction,
-    weingarten_normal_derivatives, SurfacePoint,
+    face_forward, set_shading_geometry, surface_interaction, weingarten_normal_derivatives, SurfacePoint,
 };
 use super::warps::{bilinear_pdf, sample_bilinear};
 use super::{area_sample_to_solid_angle, ShapeIntersection, ShapeSample, ShapeSampleContext, ShapeStorage};

@@ -21,6 +21,7 @@ pub mod cylinder;
 pub mod disk;
 pub mod interval;
 pub mod mesh;
+pub mod numeric;
 pub mod object_transform;
 pub mod ply;
 pub mod sphere;
@@ -481,6 +482,39 @@ element face 2\nproperty list uchar int vertex_indices\nend_header\n\
         assert!((hit.interaction.n + Vec3::X).length() < 1e-5);
         assert!((shapes[5].area(&storage) - 1.0).abs() < 1e-6);
         assert!(shapes.iter().all(|s| s.face_index(&storage) == 0));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn odd_parameters_give_shapes_that_do_not_panic() {
+        let dir = temporary_directory("odd");
+        let world = r#"
+            Shape "sphere" "float radius" -1
+            Shape "sphere" "float radius" 0 "float phimax" -30
+            Shape "sphere" "float zmin" 0.5 "float zmax" 0.5
+            Shape "disk" "float radius" 0 "float innerradius" 2
+            Shape "cylinder" "float radius" 0 "float zmin" 1 "float zmax" 1
+            Shape "trianglemesh" "point3 P" [0 0 0 0 0 0 0 0 0]
+            Shape "bilinearmesh" "point3 P" [0 0 0 0 0 0 0 0 0 0 0 0]
+            Shape "bilinearmesh" "point3 P" [0 0 0 1 0 0 0 0 0 1 0 0]
+        "#;
+        let (shapes, storage, _) = create_all(&dir, world);
+        let shapes = shapes.unwrap();
+        let mut rng = test_support::TestRng::new(99);
+        for shape in &shapes {
+            let _ = shape.bounds(&storage);
+            let _ = shape.area(&storage);
+            for _ in 0..100 {
+                let origin = rng.direction() * 3.0;
+                let ray = Ray::new(origin, rng.direction(), 0.0);
+                let _ = shape.intersect(&storage, &ray, f32::INFINITY);
+                let u = rng.uniform2();
+                let _ = shape.sample_area(&storage, u);
+                let ctx = ShapeSampleContext::in_medium(origin, 0.0);
+                let _ = shape.sample_from(&storage, &ctx, u);
+                let _ = shape.pdf_from(&storage, &ctx, ray.direction);
+            }
+        }
         let _ = std::fs::remove_dir_all(&dir);
     }
 

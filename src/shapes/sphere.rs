@@ -18,6 +18,7 @@
 //! accounted for).
 
 use super::interval::Interval;
+use super::numeric::clamp;
 use super::object_transform::ObjectTransform;
 use super::spherical::spherical_direction;
 use super::surface::{surface_interaction, weingarten_normal_derivatives, SurfacePoint};
@@ -66,10 +67,10 @@ impl Sphere {
             transform: ObjectTransform::new(render_from_object),
             reverse_orientation,
             radius,
-            z_min: low.clamp(-radius, radius),
-            z_max: high.clamp(-radius, radius),
-            theta_z_min: (low / radius).clamp(-1.0, 1.0).acos(),
-            theta_z_max: (high / radius).clamp(-1.0, 1.0).acos(),
+            z_min: clamp(low, -radius, radius),
+            z_max: clamp(high, -radius, radius),
+            theta_z_min: clamp(low / radius, -1.0, 1.0).acos(),
+            theta_z_max: clamp(high / radius, -1.0, 1.0).acos(),
             phi_max: phi_max_degrees.clamp(0.0, 360.0).to_radians(),
         }
     }

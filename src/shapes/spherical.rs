@@ -4,7 +4,7 @@
 //! mappings, as pbrt-v4 uses them for triangle and rectangle lights.
 
 use crate::math::{lerp, safe_asin, safe_sqrt, sqr, Frame};
-use crate::shapes::surface::{difference_of_products, sum_of_products};
+use crate::shapes::numeric::{clamp, difference_of_products, sum_of_products};
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
 
@@ -255,7 +255,7 @@ pub fn sample_spherical_rectangle(p: Vec3, corner: Vec3, ex: Vec3, ey: Vec3, u: 
     let fu = (au.cos() * r.b0 - r.b1) / au.sin();
     let mut cu = (1.0 / (sqr(fu) + sqr(r.b0)).sqrt()).copysign(fu);
     cu = cu.clamp(-ONE_BELOW_ONE, ONE_BELOW_ONE);
-    let xu = (-(cu * r.z0) / safe_sqrt(1.0 - sqr(cu))).clamp(r.x0, r.x1);
+    let xu = clamp(-(cu * r.z0) / safe_sqrt(1.0 - sqr(cu)), r.x0, r.x1);
 
     // The y coordinate along that column.
     let dd = (sqr(xu) + sqr(r.z0)).sqrt();
@@ -288,7 +288,7 @@ pub fn invert_spherical_rectangle_sample(
         return Vec2::new(q.dot(ex) / ex.length_squared(), q.dot(ey) / ey.length_squared());
     }
     let local = r.frame.to_local(p_rectangle - p);
-    let mut xu = local.x.clamp(r.x0, r.x1);
+    let mut xu = clamp(local.x, r.x0, r.x1);
     if xu == 0.0 {
         xu = 1e-10;
     }

@@ -8,6 +8,7 @@
 //! flag, so the shapes use [`set_shading_geometry`] here instead.)
 
 use crate::interaction::{Shading, SurfaceInteraction};
+use super::numeric::difference_of_products;
 use glam::{Vec2, Vec3};
 
 /// What a shape knows about a surface point before the shading frame is
@@ -102,31 +103,6 @@ pub fn face_forward(v: Vec3, towards: Vec3) -> Vec3 {
     }
 }
 
-/// `a·b − c·d` with one rounding error (Kahan's algorithm with FMA).
-pub fn difference_of_products(a: f32, b: f32, c: f32, d: f32) -> f32 {
-    let cd = c * d;
-    let difference = a.mul_add(b, -cd);
-    let error = (-c).mul_add(d, cd);
-    difference + error
-}
-
-/// `a·b + c·d` with one rounding error.
-pub fn sum_of_products(a: f32, b: f32, c: f32, d: f32) -> f32 {
-    let cd = c * d;
-    let sum = a.mul_add(b, cd);
-    let error = c.mul_add(d, -cd);
-    sum + error
-}
-
-/// Componentwise `a·b − c·d` for vectors scaled by scalars.
-pub fn difference_of_products_vector(a: f32, b: Vec3, c: f32, d: Vec3) -> Vec3 {
-    Vec3::new(
-        difference_of_products(a, b.x, c, d.x),
-        difference_of_products(a, b.y, c, d.y),
-        difference_of_products(a, b.z, c, d.z),
-    )
-}
-
 /// The change of the unit normal along u and v from the first and second
 /// fundamental forms (Weingarten equations), given the second derivatives
 /// of the surface.
@@ -189,14 +165,5 @@ mod tests {
         set_shading_geometry(&mut si, -Vec3::Z, Vec3::X, Vec3::Y, Vec3::ZERO, Vec3::ZERO, false);
         assert_eq!(si.n, Vec3::Z);
         assert_eq!(si.shading.n, Vec3::Z);
-    }
-
-    #[test]
-    fn compensated_products_are_accurate() {
-        // 1.000001² − 1.000002 loses everything in naive f32 arithmetic.
-        let a = 1.000_001f32;
-        let exact = a as f64 * a as f64 - 1.000_002f32 as f64;
-        let got = difference_of_products(a, a, 1.000_002, 1.0) as f64;
-        assert!((got - exact).abs() <= 1e-12, "{got} vs {exact}");
     }
 }

@@ -29,10 +29,8 @@
 
 use super::mesh::TriangleMesh;
 use super::spherical::{invert_spherical_triangle_sample, sample_spherical_triangle, spherical_triangle_area};
-use super::surface::{
-    difference_of_products, difference_of_products_vector, face_forward, set_shading_geometry,
-    surface_interaction, SurfacePoint,
-};
+use super::numeric::{difference_of_products, difference_of_products_vector};
+use super::surface::{face_forward, set_shading_geometry, surface_interaction, SurfacePoint};
 use super::warps::{bilinear_pdf, sample_bilinear};
 use super::{
     area_sample_to_solid_angle, solid_angle_pdf_of_hit, ShapeIntersection, ShapeSample, ShapeSampleContext,
