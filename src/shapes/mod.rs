@@ -1,1 +1,541 @@
+//! Shapes: geometry that rays hit and lights sample, in render space, as
+//! pbrt-v4 defines them.
+//!
+//! - Quadrics ([`Sphere`], [`Disk`], [`Cylinder`]) keep their object-space
+//!   parameters and a render-from-object transform; rays are taken to
+//!   object space for the tests and hits are brought back.
+//! - Meshes ([`TriangleMesh`], [`BilinearPatchMesh`]) are transformed to
+//!   render space once, when created, and live in a [`ShapeStorage`]; a
+//!   [`Triangle`] or [`BilinearPatch`] is just (mesh index, face index).
+//!
+//! Every [`Shape`] method takes the [`ShapeStorage`] the shape was created
+//! into. Quadrics are boxed so that a `Shape` stays 16 bytes, the size of a
+//! mesh face reference: scenes hold millions of triangles and few spheres.
+//!
+//! Per-ray results: [`ShapeIntersection`] (the hit and its ray parameter)
+//! and [`ShapeSample`] (a point sampled on the surface, with its density
+//! per unit area, or per unit solid angle for the `_from` variants).
+
+pub mod bilinear;
 pub mod curve;
+pub mod cylinder;
+pub mod disk;
+pub mod interval;
+pub mod mesh;
+pub mod numeric;
+pub mod object_transform;
+pub mod ply;
+pub mod sphere;
+pub mod spherical;
+pub mod surface;
+pub mod triangle;
+pub mod warps;
+
+#[cfg(test)]
+mod test_support;
+
+pub use bilinear::BilinearPatch;
+pub use cylinder::Cylinder;
+pub use disk::Disk;
+pub use mesh::{BilinearPatchMesh, TriangleMesh};
+pub use sphere::Sphere;
+pub use triangle::Triangle;
+
+use crate::error::{scene_error, Result};
+use crate::interaction::SurfaceInteraction;
+use crate::math::{offset_ray_origin, Bounds3, Ray, Transform};
+use crate::scene::description;
+use glam::{Vec2, Vec3};
+use pbrt_parser::{ParamType, Warning};
+use std::path::Path;
+
+/// A shape of the scene. Per-ray code matches on it; no trait objects.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Shape {
+    Sphere(Box<Sphere>),
+    Disk(Box<Disk>),
+    Cylinder(Box<Cylinder>),
+    Triangle(Triangle),
+    BilinearPatch(BilinearPatch),
+    // curves: issue 4
+}
+
+/// The meshes that [`Triangle`] and [`BilinearPatch`] shapes index into.
+/// [`create_shapes`] appends to it; every [`Shape`] method reads it.
+#[derive(Clone, Debug, Default)]
+pub struct ShapeStorage {
+    pub triangle_meshes: Vec<TriangleMesh>,
+    pub bilinear_meshes: Vec<BilinearPatchMesh>,
+}
+
+/// A ray–shape hit: the surface interaction (render space) and the ray
+/// parameter of the hit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShapeIntersection {
+    pub interaction: SurfaceInteraction,
+    pub t_hit: f32,
+}
+
+/// A point sampled on a shape: position with its error bound, the surface
+/// normal (on the side pbrt's orientation rules give), the surface (u,v),
+/// and the density: per unit area for [`Shape::sample_area`], per unit
+/// solid angle at the reference point for [`Shape::sample_from`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShapeSample {
+    pub p: Vec3,
+    pub p_error: Vec3,
+    pub n: Vec3,
+    pub uv: Vec2,
+    pub pdf: f32,
+}
+
+/// The reference point a shape is sampled from: its position and error
+/// bound, its geometric normal `n` and shading normal `ns` (both zero for a
+/// point in a medium), and the time.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShapeSampleContext {
+    pub p: Vec3,
+    pub p_error: Vec3,
+    pub n: Vec3,
+    pub ns: Vec3,
+    pub time: f32,
+}
+
+impl ShapeSampleContext {
+    /// The context of a surface point.
+    pub fn from_surface(interaction: &SurfaceInteraction) -> Self {
+        ShapeSampleContext {
+            p: interaction.p,
+            p_error: interaction.p_error,
+            n: interaction.n,
+            ns: interaction.shading.n,
+            time: interaction.time,
+        }
+    }
+
+    /// The context of a point in a participating medium (no normal).
+    pub fn in_medium(p: Vec3, time: f32) -> Self {
+        ShapeSampleContext {
+            p,
+            p_error: Vec3::ZERO,
+            n: Vec3::ZERO,
+            ns: Vec3::ZERO,
+            time,
+        }
+    }
+
+    /// The reference point moved off its surface towards `w`.
+    pub fn offset_origin(&self, w: Vec3) -> Vec3 {
+        offset_ray_origin(self.p, self.p_error, self.n, w)
+    }
+
+    /// A ray leaving the reference point in direction `w`.
+    pub fn spawn_ray(&self, w: Vec3) -> Ray {
+        Ray::new(self.offset_origin(w), w, self.time)
+    }
+}
+
+/// What a quadric's object-space intersection test finds.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct QuadricHit {
+    pub t: f32,
+    pub p_object: Vec3,
+    pub phi: f32,
+}
+
+impl Shape {
+    /// Render-space bounds.
+    pub fn bounds(&self, storage: &ShapeStorage) -> Bounds3 {
+        match self {
+            Shape::Sphere(s) => s.bounds(),
+            Shape::Disk(d) => d.bounds(),
+            Shape::Cylinder(c) => c.bounds(),
+            Shape::Triangle(t) => t.bounds(t.mesh_of(storage)),
+            Shape::BilinearPatch(b) => b.bounds(b.mesh_of(storage)),
+        }
+    }
+
+    /// The closest hit with `0 < t < t_max` (t in units of `ray.direction`).
+    pub fn intersect(&self, storage: &ShapeStorage, ray: &Ray, t_max: f32) -> Option<ShapeIntersection> {
+        match self {
+            Shape::Sphere(s) => s.intersect(ray, t_max),
+            Shape::Disk(d) => d.intersect(ray, t_max),
+            Shape::Cylinder(c) => c.intersect(ray, t_max),
+            Shape::Triangle(t) => t.intersect(t.mesh_of(storage), ray, t_max),
+            Shape::BilinearPatch(b) => b.intersect(b.mesh_of(storage), ray, t_max),
+        }
+    }
+
+    /// Whether there is a hit with `0 < t < t_max` (no interaction built).
+    pub fn intersect_p(&self, storage: &ShapeStorage, ray: &Ray, t_max: f32) -> bool {
+        match self {
+            Shape::Sphere(s) => s.intersect_p(ray, t_max),
+            Shape::Disk(d) => d.intersect_p(ray, t_max),
+            Shape::Cylinder(c) => c.intersect_p(ray, t_max),
+            Shape::Triangle(t) => t.intersect_p(t.mesh_of(storage), ray, t_max),
+            Shape::BilinearPatch(b) => b.intersect_p(b.mesh_of(storage), ray, t_max),
+        }
+    }
+
+    /// Surface area. Quadrics report their object-space area (pbrt-v4 does
+    /// not account for a scaling render-from-object transform); meshes are
+    /// measured in render space.
+    pub fn area(&self, storage: &ShapeStorage) -> f32 {
+        match self {
+            Shape::Sphere(s) => s.area(),
+            Shape::Disk(d) => d.area(),
+            Shape::Cylinder(c) => c.area(),
+            Shape::Triangle(t) => t.area(t.mesh_of(storage)),
+            Shape::BilinearPatch(b) => b.area(b.mesh_of(storage)),
+        }
+    }
+
+    /// A point on the surface; `pdf` is per unit area.
+    pub fn sample_area(&self, storage: &ShapeStorage, u: Vec2) -> Option<ShapeSample> {
+        match self {
+            Shape::Sphere(s) => s.sample_area(u),
+            Shape::Disk(d) => d.sample_area(u),
+            Shape::Cylinder(c) => c.sample_area(u),
+            Shape::Triangle(t) => t.sample_area(t.mesh_of(storage), u),
+            Shape::BilinearPatch(b) => b.sample_area(b.mesh_of(storage), u),
+        }
+    }
+
+    /// A point on the surface as seen from `ctx`; `pdf` is per unit solid
+    /// angle at `ctx.p`.
+    pub fn sample_from(&self, storage: &ShapeStorage, ctx: &ShapeSampleContext, u: Vec2) -> Option<ShapeSample> {
+        match self {
+            Shape::Sphere(s) => s.sample_from(ctx, u),
+            Shape::Disk(d) => d.sample_from(ctx, u),
+            Shape::Cylinder(c) => c.sample_from(ctx, u),
+            Shape::Triangle(t) => t.sample_from(t.mesh_of(storage), ctx, u),
+            Shape::BilinearPatch(b) => b.sample_from(b.mesh_of(storage), ctx, u),
+        }
+    }
+
+    /// The solid-angle density with which [`Shape::sample_from`] picks the
+    /// direction `wi` (unit) from `ctx`; 0 when `wi` misses the shape.
+    pub fn pdf_from(&self, storage: &ShapeStorage, ctx: &ShapeSampleContext, wi: Vec3) -> f32 {
+        match self {
+            Shape::Sphere(s) => s.pdf_from(ctx, wi),
+            Shape::Disk(d) => d.pdf_from(ctx, wi),
+            Shape::Cylinder(c) => c.pdf_from(ctx, wi),
+            Shape::Triangle(t) => t.pdf_from(t.mesh_of(storage), ctx, wi),
+            Shape::BilinearPatch(b) => b.pdf_from(b.mesh_of(storage), ctx, wi),
+        }
+    }
+
+    /// pbrt's face index of a mesh face (the `faceIndices` parameter or the
+    /// PLY `face_indices` property; 0 when absent and for quadrics). Ptex
+    /// textures look it up.
+    pub fn face_index(&self, storage: &ShapeStorage) -> i32 {
+        match self {
+            Shape::Triangle(t) => t.face_index(t.mesh_of(storage)),
+            Shape::BilinearPatch(b) => b.face_index(b.mesh_of(storage)),
+            _ => 0,
+        }
+    }
+}
+
+/// Converts an area-measure sample to solid angle at `ctx` (pbrt's shared
+/// `Sample(ctx, u)` fallback): `pdf_ω = pdf_A · d² / |cos θ|`. `None` when the
+/// sample is at the reference point or seen exactly edge-on.
+pub(crate) fn area_sample_to_solid_angle(sample: ShapeSample, ctx: &ShapeSampleContext) -> Option<ShapeSample> {
+    let to_sample = sample.p - ctx.p;
+    let distance_squared = to_sample.length_squared();
+    if distance_squared == 0.0 {
+        return None;
+    }
+    let wi = to_sample.normalize();
+    let pdf = sample.pdf / (sample.n.dot(-wi).abs() / distance_squared);
+    if pdf.is_infinite() {
+        return None;
+    }
+    Some(ShapeSample { pdf, ..sample })
+}
+
+/// The solid-angle density at `ctx` of area density `area_pdf` at the
+/// point where the ray from `ctx` along `wi` hits (pbrt's shared
+/// `PDF(ctx, wi)` fallback); 0 for a miss or an infinite density.
+pub(crate) fn solid_angle_pdf_of_hit(
+    hit: Option<&ShapeIntersection>,
+    area_pdf: impl FnOnce(&ShapeIntersection) -> f32,
+    ctx: &ShapeSampleContext,
+    wi: Vec3,
+) -> f32 {
+    let Some(hit) = hit else {
+        return 0.0;
+    };
+    let p = hit.interaction.p;
+    let pdf = area_pdf(hit) / (hit.interaction.n.dot(-wi).abs() / ctx.p.distance_squared(p));
+    if pdf.is_infinite() {
+        0.0
+    } else {
+        pdf
+    }
+}
+
+/// The shapes a `Shape` directive makes, in render space.
+///
+/// `render_from_object` is the directive's transform composed with the
+/// render-from-world transform; `reverse_orientation` the graphics state's
+/// `ReverseOrientation`. Meshes are transformed now and appended to
+/// `storage`; `plymesh` file names resolve against `base_directory`.
+/// Problems pbrt-v4 only warns about (PLY faces that are neither triangles
+/// nor quads) are added to `warnings`.
+pub fn create_shapes(
+    shape: &description::Shape,
+    render_from_object: &Transform,
+    reverse_orientation: bool,
+    base_directory: &Path,
+    storage: &mut ShapeStorage,
+    warnings: &mut Vec<Warning>,
+) -> Result<Vec<Shape>> {
+    let params = &shape.entity.params;
+    let location = &shape.entity.location.0;
+    let kind = shape.entity.kind.as_str();
+    let shapes = match kind {
+        "sphere" => vec![Shape::Sphere(Box::new(Sphere::from_parameters(
+            params,
+            render_from_object,
+            reverse_orientation,
+        )?))],
+        "disk" => vec![Shape::Disk(Box::new(Disk::from_parameters(
+            params,
+            render_from_object,
+            reverse_orientation,
+        )?))],
+        "cylinder" => vec![Shape::Cylinder(Box::new(Cylinder::from_parameters(
+            params,
+            render_from_object,
+            reverse_orientation,
+        )?))],
+        "trianglemesh" => {
+            let mesh = TriangleMesh::from_parameters(params, location, render_from_object, reverse_orientation)?;
+            push_triangle_mesh(storage, mesh)
+        }
+        "bilinearmesh" => {
+            let mesh =
+                BilinearPatchMesh::from_parameters(params, location, render_from_object, reverse_orientation)?;
+            push_bilinear_mesh(storage, mesh)
+        }
+        "plymesh" => {
+            let filename = params.string("filename", "")?;
+            params.float("edgelength", 1.0)?;
+            if params.find("displacement", &[ParamType::Float, ParamType::Texture])?.is_some() {
+                return scene_error("plymesh displacement is not supported yet", location);
+            }
+            if filename.is_empty() {
+                return scene_error("plymesh: \"filename\" must be given", location);
+            }
+            let path = base_directory.join(&filename);
+            let ply = ply::read_ply(&path, location)?;
+            if ply.skipped_faces > 0 {
+                warnings.push(Warning {
+                    message: format!(
+                        "{}: ignored {} face(s) that are neither triangles nor quads",
+                        path.display(),
+                        ply.skipped_faces
+                    ),
+                    location: location.clone(),
+                });
+            }
+            let meshes = ply.into_meshes(render_from_object, reverse_orientation);
+            let mut shapes = Vec::new();
+            if let Some(mesh) = meshes.triangles {
+                shapes.extend(push_triangle_mesh(storage, mesh));
+            }
+            if let Some(mesh) = meshes.quads {
+                shapes.extend(push_bilinear_mesh(storage, mesh));
+            }
+            shapes
+        }
+        "loopsubdiv" | "curve" | "bcurve" => {
+            return scene_error(format!("shape \"{kind}\" is not supported yet"), location)
+        }
+        _ => return scene_error(format!("\"{kind}\": unknown shape type"), location),
+    };
+    if shapes.is_empty() {
+        return scene_error(format!("{kind}: unable to create shape (it has no faces)"), location);
+    }
+    Ok(shapes)
+}
+
+fn push_triangle_mesh(storage: &mut ShapeStorage, mesh: TriangleMesh) -> Vec<Shape> {
+    let mesh_index = storage.triangle_meshes.len() as u32;
+    let count = mesh.triangle_count() as u32;
+    storage.triangle_meshes.push(mesh);
+    (0..count)
+        .map(|index| Shape::Triangle(Triangle::new(mesh_index, index)))
+        .collect()
+}
+
+fn push_bilinear_mesh(storage: &mut ShapeStorage, mesh: BilinearPatchMesh) -> Vec<Shape> {
+    let mesh_index = storage.bilinear_meshes.len() as u32;
+    let count = mesh.patch_count() as u32;
+    storage.bilinear_meshes.push(mesh);
+    (0..count)
+        .map(|index| Shape::BilinearPatch(BilinearPatch::new(mesh_index, index)))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::scene::load_text;
+
+    /// The shapes of a scene's world block, created with each shape's own
+    /// transform as render-from-object.
+    fn create_all(
+        directory: &Path,
+        world: &str,
+    ) -> (Result<Vec<Shape>>, ShapeStorage, Vec<Warning>) {
+        let text = format!("WorldBegin\n{world}\n");
+        let loaded = load_text(&directory.join("scene.pbrt"), &text).unwrap();
+        let mut storage = ShapeStorage::default();
+        let mut warnings = Vec::new();
+        let mut all = Vec::new();
+        for shape in &loaded.scene.shapes {
+            let transform = loaded.scene.transform(shape.world_from_object).start;
+            match create_shapes(
+                shape,
+                &transform,
+                shape.reverse_orientation,
+                directory,
+                &mut storage,
+                &mut warnings,
+            ) {
+                Ok(mut shapes) => all.append(&mut shapes),
+                Err(e) => return (Err(e), storage, warnings),
+            }
+        }
+        (Ok(all), storage, warnings)
+    }
+
+    fn temporary_directory(test: &str) -> std::path::PathBuf {
+        let dir = std::env::temp_dir().join(format!("rpbrt-shapes-{}-{test}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&dir);
+        std::fs::create_dir_all(&dir).unwrap();
+        dir
+    }
+
+    #[test]
+    fn every_supported_shape_is_created_in_render_space() {
+        let dir = temporary_directory("create");
+        std::fs::write(
+            dir.join("quad.ply"),
+            "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n\
+element face 2\nproperty list uchar int vertex_indices\nend_header\n\
+0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n5 0 1 2 3 0\n",
+        )
+        .unwrap();
+        let world = r#"
+            AttributeBegin
+              Translate 0 0 10
+              Shape "sphere" "float radius" 2
+              Shape "disk" "float radius" 3 "float height" 1
+              ReverseOrientation
+              Shape "cylinder" "float zmin" 0 "float zmax" 2
+            AttributeEnd
+            Shape "trianglemesh" "point3 P" [0 0 0 1 0 0 1 1 0 0 1 0] "integer indices" [0 1 2 0 2 3]
+            Shape "bilinearmesh" "point3 P" [0 0 5 1 0 5 0 1 5 1 1 5]
+            Translate 0 0 -3
+            Shape "plymesh" "string filename" "quad.ply"
+        "#;
+        let (shapes, storage, warnings) = create_all(&dir, world);
+        let shapes = shapes.unwrap();
+        assert_eq!(shapes.len(), 3 + 2 + 1 + 1);
+        assert!(matches!(shapes[0], Shape::Sphere(_)));
+        assert!(matches!(shapes[1], Shape::Disk(_)));
+        assert!(matches!(shapes[2], Shape::Cylinder(_)));
+        assert!(matches!(shapes[3], Shape::Triangle(Triangle { mesh: 0, index: 0 })));
+        assert!(matches!(shapes[4], Shape::Triangle(Triangle { mesh: 0, index: 1 })));
+        assert!(matches!(shapes[5], Shape::BilinearPatch(BilinearPatch { mesh: 0, index: 0 })));
+        assert!(matches!(shapes[6], Shape::BilinearPatch(BilinearPatch { mesh: 1, index: 0 })));
+        assert_eq!(storage.triangle_meshes.len(), 1);
+        assert_eq!(storage.bilinear_meshes.len(), 2);
+        // The pentagon of the PLY file was skipped with a warning.
+        assert_eq!(warnings.len(), 1);
+        assert!(warnings[0].message.contains("neither triangles nor quads"));
+
+        let sphere_bounds = shapes[0].bounds(&storage);
+        assert_eq!(sphere_bounds.min, Vec3::new(-2.0, -2.0, 8.0));
+        assert_eq!(sphere_bounds.max, Vec3::new(2.0, 2.0, 12.0));
+        // Shoot down the z axis through everything: the sphere's top first.
+        let ray = Ray::new(Vec3::new(0.25, 0.5, 20.0), -Vec3::Z, 0.0);
+        let nearest = shapes
+            .iter()
+            .enumerate()
+            .filter_map(|(i, s)| s.intersect(&storage, &ray, f32::INFINITY).map(|h| (i, h.t_hit)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .unwrap();
+        assert_eq!(nearest.0, 0);
+        let t_of = |i: usize| shapes[i].intersect(&storage, &ray, f32::INFINITY).map(|h| h.t_hit);
+        assert!((t_of(1).unwrap() - 9.0).abs() < 1e-5, "disk at z = 11");
+        assert!(t_of(2).is_none(), "the cylinder's axis is the ray's neighbour, not its target");
+        assert!(t_of(3).is_none(), "(0.25, 0.5) is in the second triangle");
+        assert!((t_of(4).unwrap() - 20.0).abs() < 1e-5);
+        assert!((t_of(5).unwrap() - 15.0).abs() < 1e-5);
+        assert!((t_of(6).unwrap() - 23.0).abs() < 1e-5, "plymesh at z = −3");
+        // The reversed cylinder's normals point inwards.
+        let side = Ray::new(Vec3::new(5.0, 0.0, 11.0), -Vec3::X, 0.0);
+        let hit = shapes[2].intersect(&storage, &side, f32::INFINITY).unwrap();
+        assert!((hit.interaction.n + Vec3::X).length() < 1e-5);
+        assert!((shapes[5].area(&storage) - 1.0).abs() < 1e-6);
+        assert!(shapes.iter().all(|s| s.face_index(&storage) == 0));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn odd_parameters_give_shapes_that_do_not_panic() {
+        let dir = temporary_directory("odd");
+        let world = r#"
+            Shape "sphere" "float radius" -1
+            Shape "sphere" "float radius" 0 "float phimax" -30
+            Shape "sphere" "float zmin" 0.5 "float zmax" 0.5
+            Shape "disk" "float radius" 0 "float innerradius" 2
+            Shape "cylinder" "float radius" 0 "float zmin" 1 "float zmax" 1
+            Shape "trianglemesh" "point3 P" [0 0 0 0 0 0 0 0 0]
+            Shape "bilinearmesh" "point3 P" [0 0 0 0 0 0 0 0 0 0 0 0]
+            Shape "bilinearmesh" "point3 P" [0 0 0 1 0 0 0 0 0 1 0 0]
+        "#;
+        let (shapes, storage, _) = create_all(&dir, world);
+        let shapes = shapes.unwrap();
+        let mut rng = test_support::TestRng::new(99);
+        for shape in &shapes {
+            let _ = shape.bounds(&storage);
+            let _ = shape.area(&storage);
+            for _ in 0..100 {
+                let origin = rng.direction() * 3.0;
+                let ray = Ray::new(origin, rng.direction(), 0.0);
+                let _ = shape.intersect(&storage, &ray, f32::INFINITY);
+                let u = rng.uniform2();
+                let _ = shape.sample_area(&storage, u);
+                let ctx = ShapeSampleContext::in_medium(origin, 0.0);
+                let _ = shape.sample_from(&storage, &ctx, u);
+                let _ = shape.pdf_from(&storage, &ctx, ray.direction);
+            }
+        }
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn a_shape_is_as_small_as_a_mesh_face_reference() {
+        assert_eq!(std::mem::size_of::<Shape>(), 16);
+    }
+
+    #[test]
+    fn unsupported_and_broken_shapes_are_errors() {
+        let dir = temporary_directory("errors");
+        let error = |world: &str| create_all(&dir, world).0.unwrap_err().to_string();
+        let e = error(r#"Shape "loopsubdiv" "integer indices" [0 1 2] "point3 P" [0 0 0 1 0 0 0 1 0]"#);
+        assert!(e.contains("shape \"loopsubdiv\" is not supported yet"), "{e}");
+        let e = error(r#"Shape "plymesh" "string filename" "mesh.ply" "float displacement" 0.1"#);
+        assert!(e.contains("plymesh displacement is not supported yet"), "{e}");
+        let e = error(r#"Shape "plymesh" "string filename" "missing.ply""#);
+        assert!(e.contains("missing.ply"), "{e}");
+        let e = error(r#"Shape "trianglemesh" "point3 P" [0 0 0 1 0 0 0 1 0] "integer indices" [0 1 7]"#);
+        assert!(e.contains("\"indices\" values out of range: 7") && e.contains("scene.pbrt:2:"), "{e}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}
