@@ -4,6 +4,7 @@
 //! scene description ([`scene`]) → built scene → integrator → film → image.
 //! See `docs/architecture.md`.
 
+pub mod bxdfs;
 pub mod error;
 pub mod interaction;
 pub mod math;
