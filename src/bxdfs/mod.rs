@@ -1,1 +1,150 @@
+//! Scattering functions (BxDFs) with pbrt-v4's semantics, and the BSDF that
+//! places one in a surface's shading frame.
+//!
+//! All BxDF methods work in the local shading frame (z is the shading
+//! normal) with ωo and ωi both pointing away from the surface. The family
+//! is a closed enum dispatched by `match`, so a BxDF is created per
+//! intersection by value, with no heap allocation.
+
+mod bsdf;
+mod bsdf_sample;
+mod conductor;
+mod dielectric;
+mod diffuse;
+mod diffuse_transmission;
+mod flags;
+pub mod fresnel;
 pub mod hair;
+pub mod geometry;
+mod microfacet;
+#[cfg(test)]
+mod random;
+mod thin_dielectric;
+mod transport_mode;
+
+#[cfg(test)]
+mod test_support;
+
+pub use bsdf::BSDF;
+pub use bsdf_sample::BSDFSample;
+pub use conductor::ConductorBxDF;
+pub use dielectric::DielectricBxDF;
+pub use diffuse::DiffuseBxDF;
+pub use diffuse_transmission::DiffuseTransmissionBxDF;
+pub use flags::{BxDFFlags, BxDFReflTransFlags};
+pub use microfacet::TrowbridgeReitzDistribution;
+pub use thin_dielectric::ThinDielectricBxDF;
+pub use transport_mode::TransportMode;
+
+use crate::spectrum::SampledSpectrum;
+use glam::{Vec2, Vec3};
+
+/// The BxDFs pbrt-v4's materials create (hair and measured BxDFs aside).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum BxDF {
+    Diffuse(DiffuseBxDF),
+    Conductor(ConductorBxDF),
+    Dielectric(DielectricBxDF),
+    ThinDielectric(ThinDielectricBxDF),
+    DiffuseTransmission(DiffuseTransmissionBxDF),
+}
+
+/// Expands to a `match` calling `$method` on whichever BxDF `$self` holds.
+macro_rules! dispatch {
+    ($self:expr, $bxdf:ident => $call:expr) => {
+        match $self {
+            BxDF::Diffuse($bxdf) => $call,
+            BxDF::Conductor($bxdf) => $call,
+            BxDF::Dielectric($bxdf) => $call,
+            BxDF::ThinDielectric($bxdf) => $call,
+            BxDF::DiffuseTransmission($bxdf) => $call,
+        }
+    };
+}
+
+impl BxDF {
+    /// The BxDF's value for the pair (zero for delta lobes; a stochastic
+    /// but deterministic estimate for layered BxDFs).
+    pub fn f(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> SampledSpectrum {
+        dispatch!(self, b => b.f(wo, wi, mode))
+    }
+
+    /// Samples ωi given ωo, a 1D sample `uc` (lobe choice) and a 2D sample
+    /// `u` (direction), restricted to the requested hemispheres.
+    pub fn sample_f(
+        &self,
+        wo: Vec3,
+        uc: f32,
+        u: Vec2,
+        mode: TransportMode,
+        sample_flags: BxDFReflTransFlags,
+    ) -> Option<BSDFSample> {
+        dispatch!(self, b => b.sample_f(wo, uc, u, mode, sample_flags))
+    }
+
+    /// Solid-angle density with which `sample_f` returns ωi (zero for delta
+    /// lobes).
+    pub fn pdf(
+        &self,
+        wo: Vec3,
+        wi: Vec3,
+        mode: TransportMode,
+        sample_flags: BxDFReflTransFlags,
+    ) -> f32 {
+        dispatch!(self, b => b.pdf(wo, wi, mode, sample_flags))
+    }
+
+    pub fn flags(&self) -> BxDFFlags {
+        dispatch!(self, b => b.flags())
+    }
+
+    /// Roughens near-specular lobes (pbrt-v4's `regularize` option).
+    pub fn regularize(&mut self) {
+        dispatch!(self, b => b.regularize())
+    }
+}
+
+impl From<DiffuseBxDF> for BxDF {
+    fn from(b: DiffuseBxDF) -> Self {
+        BxDF::Diffuse(b)
+    }
+}
+
+impl From<ConductorBxDF> for BxDF {
+    fn from(b: ConductorBxDF) -> Self {
+        BxDF::Conductor(b)
+    }
+}
+
+impl From<DielectricBxDF> for BxDF {
+    fn from(b: DielectricBxDF) -> Self {
+        BxDF::Dielectric(b)
+    }
+}
+
+impl From<ThinDielectricBxDF> for BxDF {
+    fn from(b: ThinDielectricBxDF) -> Self {
+        BxDF::ThinDielectric(b)
+    }
+}
+
+impl From<DiffuseTransmissionBxDF> for BxDF {
+    fn from(b: DiffuseTransmissionBxDF) -> Self {
+        BxDF::DiffuseTransmission(b)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_enum_stays_small_enough_to_pass_by_value() {
+        // Per-intersection values: keep them in a few cache lines.
+        assert!(
+            std::mem::size_of::<BxDF>() <= 128,
+            "{}",
+            std::mem::size_of::<BxDF>()
+        );
+    }
+}
