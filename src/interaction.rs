@@ -59,9 +59,10 @@ impl SurfaceInteraction {
         Ray::new(origin, p_to - origin, self.time)
     }
 
-    /// Sets the shading geometry, flipping the geometric normal to the
-    /// shading normal's side when `orientation_is_authoritative` is false
-    /// (pbrt-v4's SetShadingGeometry).
+    /// Sets the shading geometry (pbrt-v4's SetShadingGeometry): when
+    /// `orientation_is_authoritative`, the geometric normal turns to the
+    /// shading normal's side; otherwise the shading normal turns to the
+    /// geometric one's.
     pub fn set_shading_geometry(
         &mut self,
         ns: Vec3,
@@ -74,10 +75,10 @@ impl SurfaceInteraction {
         let mut ns = ns;
         if orientation_is_authoritative {
             if self.n.dot(ns) < 0.0 {
-                ns = -ns;
+                self.n = -self.n;
             }
         } else if self.n.dot(ns) < 0.0 {
-            self.n = -self.n;
+            ns = -ns;
         }
         self.shading = Shading {
             n: ns,

@@ -254,7 +254,7 @@ impl HairBxDF {
 
     /// f(ωo, ωi): the BSDF value (already divided by |cos θ_i|, as pbrt-v4
     /// does, so that the integrator's cosine cancels).
-    pub fn f(&self, wo: Vec3, wi: Vec3) -> SampledSpectrum {
+    pub fn value(&self, wo: Vec3, wi: Vec3) -> SampledSpectrum {
         let o = self.outgoing(wo);
         let sin_theta_i = wi.x;
         let cos_theta_i = safe_sqrt(1.0 - sqr(sin_theta_i));
@@ -297,7 +297,7 @@ impl HairBxDF {
     /// Samples ωi: a lobe by its attenuation, θ_i from M_p, Δφ from N_p.
     /// `uc` picks the lobe (and is reused, rescaled, for N_p); `u` drives
     /// M_p.
-    pub fn sample_f(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<HairSample> {
+    pub fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<HairSample> {
         let o = self.outgoing(wo);
         let ap_pdf = self.ap_pdf(&o);
         // Pick p and remap uc to [0, 1) within its interval.
@@ -368,8 +368,8 @@ impl HairBxDF {
         pdf
     }
 
-    /// Solid-angle density with which [`Self::sample_f`] picks ωi.
-    pub fn pdf(&self, wo: Vec3, wi: Vec3) -> f32 {
+    /// Solid-angle density with which [`Self::sample`] picks ωi.
+    pub fn density(&self, wo: Vec3, wi: Vec3) -> f32 {
         let o = self.outgoing(wo);
         let sin_theta_i = wi.x;
         let cos_theta_i = safe_sqrt(1.0 - sqr(sin_theta_i));
@@ -435,7 +435,7 @@ mod tests {
                     let h = -1.0 + 2.0 * rng.f();
                     let bxdf = lossless(h, bm, bn);
                     let wi = sample_uniform_sphere(rng.v2());
-                    sum += (bxdf.f(wo, wi)[0] * wi.z.abs() / UNIFORM_SPHERE_PDF) as f64;
+                    sum += (bxdf.value(wo, wi)[0] * wi.z.abs() / UNIFORM_SPHERE_PDF) as f64;
                 }
                 let avg = (sum / n as f64) as f32;
                 worst = worst.max((avg - 1.0).abs());
@@ -457,7 +457,7 @@ mod tests {
                 for _ in 0..n {
                     let h = -1.0 + 2.0 * rng.f();
                     let bxdf = lossless(h, bm, bn);
-                    if let Some(s) = bxdf.sample_f(wo, rng.f(), rng.v2()) {
+                    if let Some(s) = bxdf.sample(wo, rng.f(), rng.v2()) {
                         sum += (s.f[0] * s.wi.z.abs() / s.pdf) as f64;
                     }
                 }
@@ -477,7 +477,7 @@ mod tests {
                 for _ in 0..2000 {
                     let bxdf = lossless(-1.0 + 2.0 * rng.f(), bm, bn);
                     let wo = sample_uniform_sphere(rng.v2());
-                    if let Some(s) = bxdf.sample_f(wo, rng.f(), rng.v2()) {
+                    if let Some(s) = bxdf.sample(wo, rng.f(), rng.v2()) {
                         let w = s.f[0] * s.wi.z.abs() / s.pdf;
                         assert!(w > 0.99 && w < 1.01, "β_m {bm} β_n {bn}: weight {w}");
                     }
@@ -501,9 +501,9 @@ mod tests {
                 for _ in 0..n {
                     let h = -1.0 + 2.0 * rng.f();
                     let bxdf = HairBxDF::new(h, 1.55, sigma_a, bm, bn, 2.0);
-                    if let Some(s) = bxdf.sample_f(wo, rng.f(), rng.v2()) {
+                    if let Some(s) = bxdf.sample(wo, rng.f(), rng.v2()) {
                         importance += (s.f.average() * s.wi.z.abs() / s.pdf) as f64;
-                        let p = bxdf.pdf(wo, s.wi);
+                        let p = bxdf.density(wo, s.wi);
                         assert!(
                             (p - s.pdf).abs() <= 1e-3 * s.pdf.max(1.0),
                             "pdf {p} vs {}",
@@ -511,7 +511,7 @@ mod tests {
                         );
                     }
                     let wi = sample_uniform_sphere(rng.v2());
-                    uniform += (bxdf.f(wo, wi).average() * wi.z.abs() / UNIFORM_SPHERE_PDF) as f64;
+                    uniform += (bxdf.value(wo, wi).average() * wi.z.abs() / UNIFORM_SPHERE_PDF) as f64;
                 }
                 let (a, b) = (importance / n as f64, uniform / n as f64);
                 assert!((a - b).abs() / b < 0.05, "β_m {bm} β_n {bn}: {a} vs {b}");
@@ -531,7 +531,7 @@ mod tests {
             let n = 400_000;
             let mut observed = vec![0.0f64; n_theta * n_phi];
             for _ in 0..n {
-                if let Some(s) = bxdf.sample_f(wo, rng.f(), rng.v2()) {
+                if let Some(s) = bxdf.sample(wo, rng.f(), rng.v2()) {
                     let theta = s.wi.z.clamp(-1.0, 1.0).acos();
                     let mut ph = s.wi.y.atan2(s.wi.x);
                     if ph < 0.0 {
@@ -562,7 +562,7 @@ mod tests {
                             let d_omega =
                                 theta.sin() * (PI / n_theta as f32) * (2.0 * PI / n_phi as f32)
                                     / (sub * sub) as f32;
-                            acc += (bxdf.pdf(wo, wi) * d_omega) as f64;
+                            acc += (bxdf.density(wo, wi) * d_omega) as f64;
                         }
                     }
                     expected[ti * n_phi + pi] = acc * n as f64;
@@ -607,14 +607,14 @@ mod tests {
                 Vec3::Y,
             ] {
                 for wi in [Vec3::X, -Vec3::Z, Vec3::new(0.3, 0.4, 0.866)] {
-                    let f = b.f(wo, wi);
+                    let f = b.value(wo, wi);
                     assert!(
                         f.0.iter().all(|v| v.is_finite() && *v >= 0.0),
                         "h {h} wo {wo} wi {wi}: {f:?}"
                     );
-                    assert!(b.pdf(wo, wi).is_finite());
+                    assert!(b.density(wo, wi).is_finite());
                 }
-                if let Some(s) = b.sample_f(wo, 0.5, Vec2::new(0.3, 0.7)) {
+                if let Some(s) = b.sample(wo, 0.5, Vec2::new(0.3, 0.7)) {
                     assert!(
                         s.f.0.iter().all(|v| v.is_finite())
                             && s.pdf.is_finite()
@@ -631,5 +631,41 @@ mod tests {
         assert!(s[0] < s[1] && s[1] < s[2] && s[2] < s[3]);
         let e = HairBxDF::sigma_a_from_concentration(1.3, 0.0);
         assert!((e[0] - 1.3 * 0.419).abs() < 1e-6);
+    }
+}
+
+/// The common BxDF interface (see [`super::BxDF`]). pbrt-v4 flags hair as
+/// glossy reflection, though it also transmits (TT).
+impl HairBxDF {
+    pub fn flags(&self) -> super::BxDFFlags {
+        super::BxDFFlags::GLOSSY_REFLECTION
+    }
+
+    pub fn regularize(&mut self) {}
+
+    pub fn f(&self, wo: Vec3, wi: Vec3, _mode: super::TransportMode) -> SampledSpectrum {
+        self.value(wo, wi)
+    }
+
+    pub fn sample_f(
+        &self,
+        wo: Vec3,
+        uc: f32,
+        u: Vec2,
+        _mode: super::TransportMode,
+        sample_flags: super::BxDFReflTransFlags,
+    ) -> Option<super::BSDFSample> {
+        if !self.flags().allows(sample_flags) {
+            return None;
+        }
+        let s = self.sample(wo, uc, u)?;
+        Some(super::BSDFSample::new(s.f, s.wi, s.pdf, self.flags()))
+    }
+
+    pub fn pdf(&self, wo: Vec3, wi: Vec3, _mode: super::TransportMode, sample_flags: super::BxDFReflTransFlags) -> f32 {
+        if !self.flags().allows(sample_flags) {
+            return 0.0;
+        }
+        self.density(wo, wi)
     }
 }

@@ -47,6 +47,7 @@ pub enum BxDF {
     Dielectric(DielectricBxDF),
     ThinDielectric(ThinDielectricBxDF),
     DiffuseTransmission(DiffuseTransmissionBxDF),
+    Hair(hair::HairBxDF),
 }
 
 /// Expands to a `match` calling `$method` on whichever BxDF `$self` holds.
@@ -58,6 +59,7 @@ macro_rules! dispatch {
             BxDF::Dielectric($bxdf) => $call,
             BxDF::ThinDielectric($bxdf) => $call,
             BxDF::DiffuseTransmission($bxdf) => $call,
+            BxDF::Hair($bxdf) => $call,
         }
     };
 }

@@ -1,12 +1,12 @@
 //! From directives to a scene description: the graphics state, named
 //! things, instancing, and typed parameter lookups.
 
-// pending merge: pub mod build;
+pub mod build;
 pub mod builder;
 pub mod description;
 pub mod params;
 pub mod schema;
-// pending merge: pub mod spectrum_param;
+pub mod spectrum_param;
 
 pub use builder::{describe, load, load_fragment, load_text, Loaded, SceneBuilder};
 pub use description::SceneDescription;

@@ -57,7 +57,8 @@ pub enum Shape {
     Cylinder(Box<Cylinder>),
     Triangle(Triangle),
     BilinearPatch(BilinearPatch),
-    // curves: issue 4
+    /// A piece of a curve segment (index into `ShapeStorage::curve_pieces`).
+    Curve(u32),
 }
 
 /// The meshes that [`Triangle`] and [`BilinearPatch`] shapes index into.
@@ -66,6 +67,15 @@ pub enum Shape {
 pub struct ShapeStorage {
     pub triangle_meshes: Vec<TriangleMesh>,
     pub bilinear_meshes: Vec<BilinearPatchMesh>,
+    pub curve_segments: Vec<curve::CurveSegment>,
+    pub curve_pieces: Vec<curve::CurvePiece>,
+}
+
+impl ShapeStorage {
+    fn curve(&self, piece: u32) -> (&curve::CurvePiece, &curve::CurveSegment) {
+        let p = &self.curve_pieces[piece as usize];
+        (p, &self.curve_segments[p.segment as usize])
+    }
 }
 
 /// A ray–shape hit: the surface interaction (render space) and the ray
@@ -152,6 +162,10 @@ impl Shape {
             Shape::Cylinder(c) => c.bounds(),
             Shape::Triangle(t) => t.bounds(t.mesh_of(storage)),
             Shape::BilinearPatch(b) => b.bounds(b.mesh_of(storage)),
+            Shape::Curve(c) => {
+                let (piece, segment) = storage.curve(*c);
+                piece.bounds(segment)
+            }
         }
     }
 
@@ -163,6 +177,11 @@ impl Shape {
             Shape::Cylinder(c) => c.intersect(ray, t_max),
             Shape::Triangle(t) => t.intersect(t.mesh_of(storage), ray, t_max),
             Shape::BilinearPatch(b) => b.intersect(b.mesh_of(storage), ray, t_max),
+            Shape::Curve(c) => {
+                let (piece, segment) = storage.curve(*c);
+                let hit = piece.intersect(segment, ray, t_max)?;
+                Some(ShapeIntersection { interaction: hit.interaction(segment, ray), t_hit: hit.t })
+            }
         }
     }
 
@@ -174,6 +193,10 @@ impl Shape {
             Shape::Cylinder(c) => c.intersect_p(ray, t_max),
             Shape::Triangle(t) => t.intersect_p(t.mesh_of(storage), ray, t_max),
             Shape::BilinearPatch(b) => b.intersect_p(b.mesh_of(storage), ray, t_max),
+            Shape::Curve(c) => {
+                let (piece, segment) = storage.curve(*c);
+                piece.intersect(segment, ray, t_max).is_some()
+            }
         }
     }
 
@@ -187,6 +210,11 @@ impl Shape {
             Shape::Cylinder(c) => c.area(),
             Shape::Triangle(t) => t.area(t.mesh_of(storage)),
             Shape::BilinearPatch(b) => b.area(b.mesh_of(storage)),
+            // Curves are never area lights; this is only an estimate.
+            Shape::Curve(c) => {
+                let (piece, segment) = storage.curve(*c);
+                (piece.cp[3] - piece.cp[0]).length() * segment.width_at(0.5 * (piece.u0 + piece.u1))
+            }
         }
     }
 
@@ -198,6 +226,7 @@ impl Shape {
             Shape::Cylinder(c) => c.sample_area(u),
             Shape::Triangle(t) => t.sample_area(t.mesh_of(storage), u),
             Shape::BilinearPatch(b) => b.sample_area(b.mesh_of(storage), u),
+            Shape::Curve(_) => None,
         }
     }
 
@@ -210,6 +239,7 @@ impl Shape {
             Shape::Cylinder(c) => c.sample_from(ctx, u),
             Shape::Triangle(t) => t.sample_from(t.mesh_of(storage), ctx, u),
             Shape::BilinearPatch(b) => b.sample_from(b.mesh_of(storage), ctx, u),
+            Shape::Curve(_) => None,
         }
     }
 
@@ -222,6 +252,7 @@ impl Shape {
             Shape::Cylinder(c) => c.pdf_from(ctx, wi),
             Shape::Triangle(t) => t.pdf_from(t.mesh_of(storage), ctx, wi),
             Shape::BilinearPatch(b) => b.pdf_from(b.mesh_of(storage), ctx, wi),
+            Shape::Curve(_) => 0.0,
         }
     }
 
@@ -350,9 +381,18 @@ pub fn create_shapes(
             }
             shapes
         }
-        "loopsubdiv" | "curve" | "bcurve" => {
-            return scene_error(format!("shape \"{kind}\" is not supported yet"), location)
+        "curve" | "bcurve" => {
+            let first = storage.curve_pieces.len() as u32;
+            curve::create_curves(
+                shape,
+                render_from_object,
+                reverse_orientation,
+                &mut storage.curve_segments,
+                &mut storage.curve_pieces,
+            )?;
+            (first..storage.curve_pieces.len() as u32).map(Shape::Curve).collect()
         }
+        "loopsubdiv" => return scene_error(format!("shape \"{kind}\" is not supported yet"), location),
         _ => return scene_error(format!("\"{kind}\": unknown shape type"), location),
     };
     if shapes.is_empty() {
