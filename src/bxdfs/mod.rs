@@ -16,8 +16,9 @@ mod flags;
 pub mod fresnel;
 pub mod hair;
 pub mod geometry;
+mod henyey_greenstein;
+mod layered;
 mod microfacet;
-#[cfg(test)]
 mod random;
 mod thin_dielectric;
 mod transport_mode;
@@ -32,6 +33,8 @@ pub use dielectric::DielectricBxDF;
 pub use diffuse::DiffuseBxDF;
 pub use diffuse_transmission::DiffuseTransmissionBxDF;
 pub use flags::{BxDFFlags, BxDFReflTransFlags};
+pub use henyey_greenstein::{henyey_greenstein, HenyeyGreenstein, PhaseFunctionSample};
+pub use layered::{CoatedConductorBxDF, CoatedDiffuseBxDF, LayerInterface, LayeredBxDF};
 pub use microfacet::TrowbridgeReitzDistribution;
 pub use thin_dielectric::ThinDielectricBxDF;
 pub use transport_mode::TransportMode;
@@ -46,6 +49,8 @@ pub enum BxDF {
     Conductor(ConductorBxDF),
     Dielectric(DielectricBxDF),
     ThinDielectric(ThinDielectricBxDF),
+    CoatedDiffuse(CoatedDiffuseBxDF),
+    CoatedConductor(CoatedConductorBxDF),
     DiffuseTransmission(DiffuseTransmissionBxDF),
     Hair(hair::HairBxDF),
 }
@@ -58,6 +63,8 @@ macro_rules! dispatch {
             BxDF::Conductor($bxdf) => $call,
             BxDF::Dielectric($bxdf) => $call,
             BxDF::ThinDielectric($bxdf) => $call,
+            BxDF::CoatedDiffuse($bxdf) => $call,
+            BxDF::CoatedConductor($bxdf) => $call,
             BxDF::DiffuseTransmission($bxdf) => $call,
             BxDF::Hair($bxdf) => $call,
         }
@@ -127,6 +134,18 @@ impl From<DielectricBxDF> for BxDF {
 impl From<ThinDielectricBxDF> for BxDF {
     fn from(b: ThinDielectricBxDF) -> Self {
         BxDF::ThinDielectric(b)
+    }
+}
+
+impl From<CoatedDiffuseBxDF> for BxDF {
+    fn from(b: CoatedDiffuseBxDF) -> Self {
+        BxDF::CoatedDiffuse(b)
+    }
+}
+
+impl From<CoatedConductorBxDF> for BxDF {
+    fn from(b: CoatedConductorBxDF) -> Self {
+        BxDF::CoatedConductor(b)
     }
 }
 
