@@ -8,6 +8,7 @@ pub mod accel;
 pub mod bxdfs;
 pub mod cameras;
 pub mod error;
+pub mod filters;
 pub mod image;
 pub mod interaction;
 pub mod math;

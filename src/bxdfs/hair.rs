@@ -19,7 +19,7 @@ pub const P_MAX: usize = 3;
 /// √(π/8), from the logistic's variance.
 const SQRT_PI_OVER_8: f32 = 0.626_657_07;
 
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HairBxDF {
     /// Offset across the fibre, −1…1.
     pub h: f32,
@@ -336,7 +336,7 @@ impl HairBxDF {
             return None;
         }
         Some(HairSample {
-            f: self.f(wo, wi),
+            f: self.value(wo, wi),
             wi,
             pdf,
         })

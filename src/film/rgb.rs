@@ -94,7 +94,7 @@ impl RgbFilm {
         if white_balance != 0.0 {
             return scene_error("film \"whitebalance\" is not supported yet", loc);
         }
-        let color_space = RgbColorSpace::get(entity.color_space);
+        let color_space = crate::spectrum::color_space::get(entity.color_space);
         Ok(RgbFilm {
             full_resolution: full,
             pixel_bounds: bounds,

@@ -95,9 +95,9 @@ pub fn path_li(scene: &BuiltScene, mut ray: Ray, lambda: &mut SampledWavelengths
         } else {
             bs.pdf
         };
-        specular_bounce = bs.flags.is_specular();
-        any_non_specular |= !bs.flags.is_specular();
-        if bs.flags.is_transmission() {
+        specular_bounce = bs.is_specular();
+        any_non_specular |= !bs.is_specular();
+        if bs.is_transmission() {
             eta_scale *= bs.eta * bs.eta;
         }
         ray = si.spawn_ray(bs.wi);

@@ -5,9 +5,9 @@ use crate::error::{scene_error, Result};
 use crate::math::Transform;
 use crate::scene::description::{self, Entity};
 use crate::scene::spectrum_param::spectrum_param;
-use crate::shapes::ShapeStorage;
+use crate::shapes::{Shape, ShapeStorage};
 use crate::spectrum::color_space::{RgbColorSpace, SpectrumKind};
-use crate::spectrum::{photometric, Spectrum};
+use crate::spectrum::{spectrum_to_photometric as photometric, Spectrum};
 use glam::{DVec3, Vec3};
 use std::f32::consts::PI;
 use std::path::Path;
@@ -18,7 +18,7 @@ use std::path::Path;
 fn emission(entity: &Entity, name: &str, base: &Path) -> Result<(Spectrum, f32)> {
     let p = &entity.params;
     let spectrum = spectrum_param(p, name, SpectrumKind::Illuminant, entity.color_space, base)?
-        .unwrap_or_else(|| RgbColorSpace::get(entity.color_space).illuminant.clone());
+        .unwrap_or_else(|| crate::spectrum::color_space::get(entity.color_space).illuminant.clone());
     let scale = p.float("scale", 1.0)? as f32 / photometric(&spectrum);
     Ok((spectrum, scale))
 }
@@ -106,7 +106,7 @@ pub fn create_light(light: &description::Light, render_from_world: &Transform, b
             let rgb: Vec<[f32; 3]> = data.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
             // Images carry no colour space here: linear sRGB (pbrt-v4's
             // default when the file names none).
-            let color_space = RgbColorSpace::get(crate::scene::description::ColorSpaceName::Srgb);
+            let color_space = crate::spectrum::color_space::get(crate::scene::description::ColorSpaceName::Srgb);
             let scale = p.float("scale", 1.0)? as f32 / photometric(&color_space.illuminant);
             p.report_unused(|| "light \"infinite\"".into())?;
             let render_from_light = render_from_light.to_mat4();
@@ -135,7 +135,7 @@ pub fn create_light(light: &description::Light, render_from_world: &Transform, b
 }
 
 /// The `AreaLightSource "diffuse"` of one shape.
-pub fn create_area_light(entity: &Entity, shape: u32, shapes: &ShapeStorage, base: &Path) -> Result<DiffuseAreaLight> {
+pub fn create_area_light(entity: &Entity, shape: &Shape, shapes: &ShapeStorage, base: &Path) -> Result<DiffuseAreaLight> {
     let p = &entity.params;
     let loc = &entity.location.0;
     if entity.kind != "diffuse" {
@@ -146,7 +146,7 @@ pub fn create_area_light(entity: &Entity, shape: u32, shapes: &ShapeStorage, bas
     }
     let (radiance, mut scale) = emission(entity, "L", base)?;
     let two_sided = p.bool("twosided", false)?;
-    let area = shapes.shape(shape).area(shapes);
+    let area = shape.area(shapes);
     let power = p.float("power", -1.0)? as f32;
     if power > 0.0 {
         // pbrt-v4: k_e = π (×2 if two-sided) × area, per shape.
@@ -154,5 +154,5 @@ pub fn create_area_light(entity: &Entity, shape: u32, shapes: &ShapeStorage, bas
         scale *= power / k_e;
     }
     p.report_unused(|| "area light \"diffuse\"".into())?;
-    Ok(DiffuseAreaLight { shape, radiance, scale, two_sided, area })
+    Ok(DiffuseAreaLight { shape: shape.clone(), radiance, scale, two_sided, area })
 }

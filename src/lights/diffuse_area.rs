@@ -10,14 +10,14 @@
 //! | `filename` | string | — | image of emitted radiance over (u, v): not supported yet |
 
 use super::{LightLiSample, LightSampleContext};
-use crate::shapes::{ShapeSampleContext, ShapeStorage};
+use crate::shapes::{Shape, ShapeSampleContext, ShapeStorage};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
 
 pub struct DiffuseAreaLight {
-    /// Index of the emitting shape in the scene's shapes.
-    pub shape: u32,
+    /// The emitting shape.
+    pub shape: Shape,
     pub radiance: Spectrum,
     pub scale: f32,
     pub two_sided: bool,
@@ -48,7 +48,7 @@ impl DiffuseAreaLight {
             ns: ctx.ns,
             time: ctx.time,
         };
-        let ss = shapes.shape(self.shape).sample_from(shapes, &shape_ctx, u)?;
+        let ss = self.shape.sample_from(shapes, &shape_ctx, u)?;
         if ss.pdf == 0.0 || (ss.p - ctx.p).length_squared() == 0.0 {
             return None;
         }
@@ -75,7 +75,7 @@ impl DiffuseAreaLight {
             ns: ctx.ns,
             time: ctx.time,
         };
-        shapes.shape(self.shape).pdf_from(shapes, &shape_ctx, wi)
+        self.shape.pdf_from(shapes, &shape_ctx, wi)
     }
 
     pub fn phi(&self, lambda: &SampledWavelengths, _shapes: &ShapeStorage) -> SampledSpectrum {

@@ -14,7 +14,7 @@
 
 use super::{LightLiSample, LightSampleContext};
 use crate::math::equal_area::{equal_area_sphere_to_square, equal_area_square_to_sphere, wrap_equal_area_square};
-use crate::samplers::distribution::PiecewiseConstant2D;
+use crate::samplers::distribution::{Domain2D, PiecewiseConstant2D};
 use crate::spectrum::color_space::{RgbColorSpace, SpectrumKind};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::{IVec2, Mat4, Vec2, Vec3};
@@ -38,7 +38,7 @@ impl ImageInfiniteLight {
     pub fn new(render_from_light: Mat4, rgb: Vec<[f32; 3]>, resolution: i32, color_space: &'static RgbColorSpace, scale: f32) -> Self {
         let n = resolution as usize;
         let d: Vec<f32> = rgb.iter().map(|c| (c[0] + c[1] + c[2]) / 3.0).collect();
-        let domain = (Vec2::ZERO, Vec2::ONE);
+        let domain = Domain2D::UNIT;
         let distribution = PiecewiseConstant2D::new(&d, n, n, domain);
         let average = d.iter().map(|&v| v as f64).sum::<f64>() / d.len().max(1) as f64;
         let mut comp: Vec<f32> = d.iter().map(|&v| (v - average as f32).max(0.0)).collect();

@@ -18,9 +18,7 @@ use crate::bxdfs::{
 use crate::bxdfs::hair::HairBxDF;
 use crate::error::{scene_error, Result};
 use crate::scene::description::ColorSpaceName;
-use crate::spectrum::color_space::RgbColorSpace;
 use crate::interaction::SurfaceInteraction;
-use crate::math::Frame;
 use crate::scene::description::Entity;
 use crate::spectrum::color_space::SpectrumKind;
 use crate::spectrum::{named_spectrum, SampledSpectrum, SampledWavelengths, Spectrum};
@@ -225,7 +223,7 @@ impl Material {
                     let ce = eumelanin.as_ref().map_or(0.0, |t| t.evaluate(&ctx)).max(0.0);
                     let cp = pheomelanin.as_ref().map_or(0.0, |t| t.evaluate(&ctx)).max(0.0);
                     let rgb = HairBxDF::sigma_a_from_concentration(ce, cp);
-                    RgbColorSpace::get(ColorSpaceName::Srgb)
+                    crate::spectrum::color_space::get(ColorSpaceName::Srgb)
                         .rgb_to_spectrum(glam::Vec3::from(rgb), SpectrumKind::Unbounded)
                         .sample(lambda)
                 };
@@ -245,18 +243,7 @@ impl Material {
                 ))
             }
         };
-        Some(BSDF::new(bxdf, shading_frame(si)))
-    }
-}
-
-/// The local shading frame: z along the shading normal, x along ∂p/∂u made
-/// orthogonal to it (any tangent when ∂p/∂u is degenerate).
-fn shading_frame(si: &SurfaceInteraction) -> Frame {
-    let n = si.shading.n;
-    let x = si.shading.dpdu - n * n.dot(si.shading.dpdu);
-    match x.try_normalize() {
-        Some(x) => Frame::from_xz(x, n),
-        None => Frame::from_z(n),
+        Some(BSDF::new(si.shading.n, si.shading.dpdu, bxdf))
     }
 }
 

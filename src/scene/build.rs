@@ -13,7 +13,7 @@ use crate::lights::{self, DiffuseAreaLight, Light, LightSampler};
 use crate::materials::Material;
 use crate::math::{offset_ray_origin, Bounds3, Ray};
 use crate::samplers::Sampler;
-use crate::shapes::{create_shapes, ShapeStorage};
+use crate::shapes::{create_shapes, Shape, ShapeStorage};
 use crate::spectrum::color_space::SpectrumKind;
 use crate::textures::{create_texture, NamedTextures};
 use glam::{IVec2, Vec3};
@@ -49,9 +49,9 @@ pub struct IntegratorSettings {
 }
 
 /// A shape with its material and emission.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Debug)]
 pub struct Primitive {
-    pub shape: u32,
+    pub shape: Shape,
     /// Index into [`BuiltScene::materials`].
     pub material: u32,
     /// Index into [`BuiltScene::lights`] of its area light.
@@ -77,25 +77,25 @@ pub struct BuiltScene {
 
 impl BuiltScene {
     /// The closest surface hit by `ray` before `t_max`.
-    pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<(SurfaceInteraction, Primitive)> {
+    pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<(SurfaceInteraction, &Primitive)> {
         let mut best = None;
         self.bvh.closest_hit(ray, t_max, |i, t_max| {
-            let prim = self.primitives[i];
-            let hit = self.shapes.shape(prim.shape).intersect(&self.shapes, ray, t_max)?;
+            let prim = &self.primitives[i];
+            let hit = prim.shape.intersect(&self.shapes, ray, t_max)?;
             let t = hit.t_hit;
-            best = Some((hit.interaction, prim));
+            best = Some((hit.interaction, i));
             Some(t)
         })?;
-        best.map(|(mut si, prim): (SurfaceInteraction, Primitive)| {
-            si.primitive = prim.shape;
-            (si, prim)
+        best.map(|(mut si, i)| {
+            si.primitive = i as u32;
+            (si, &self.primitives[i])
         })
     }
 
     /// Whether anything lies on `ray` before `t_max`.
     pub fn intersect_p(&self, ray: &Ray, t_max: f32) -> bool {
         self.bvh.any_hit(ray, t_max, |i, t_max| {
-            self.shapes.shape(self.primitives[i].shape).intersect_p(&self.shapes, ray, t_max)
+            self.primitives[i].shape.intersect_p(&self.shapes, ray, t_max)
         })
     }
 
@@ -199,7 +199,7 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
                 None => return scene_error(format!("named material \"{name}\" is not defined"), loc),
             },
         };
-        let created = create_shapes(shape, &render_from_object, shape.reverse_orientation, base, &mut shapes)?;
+        let created = create_shapes(shape, &render_from_object, shape.reverse_orientation, base, &mut shapes, &mut warnings)?;
         let area = match shape.area_light {
             Some(a) if matches!(materials[material as usize], Material::Interface) => {
                 warnings.push(Warning {
@@ -212,16 +212,16 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
             Some(a) => Some(&scene.area_lights[a]),
             None => None,
         };
-        for shape_index in created {
+        for created_shape in created {
             let area_light = match area {
                 Some(entity) => {
-                    let light = lights::create_area_light(entity, shape_index, &shapes, base)?;
+                    let light = lights::create_area_light(entity, &created_shape, &shapes, base)?;
                     lights.push(Light::DiffuseArea(light));
                     Some(lights.len() as u32 - 1)
                 }
                 None => None,
             };
-            primitives.push(Primitive { shape: shape_index, material, area_light });
+            primitives.push(Primitive { shape: created_shape, material, area_light });
         }
     }
     for light in &scene.lights {
@@ -229,9 +229,9 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
     }
 
     // The BVH, and primitives in its order.
-    let bounds: Vec<Bounds3> = primitives.iter().map(|p| shapes.shape(p.shape).bounds(&shapes)).collect();
+    let bounds: Vec<Bounds3> = primitives.iter().map(|p| p.shape.bounds(&shapes)).collect();
     let (bvh, order) = Bvh::build(&bounds);
-    let primitives: Vec<Primitive> = order.iter().map(|&i| primitives[i as usize]).collect();
+    let primitives: Vec<Primitive> = order.iter().map(|&i| primitives[i as usize].clone()).collect();
     let (center, radius) = bvh.bounds().bounding_sphere();
     for l in &mut lights {
         l.preprocess(center, radius);

@@ -39,7 +39,7 @@ pub fn spectrum_param(
                     loc,
                 );
             }
-            Ok(Some(RgbColorSpace::get(color_space).rgb_to_spectrum(rgb, kind)))
+            Ok(Some(crate::spectrum::color_space::get(color_space).rgb_to_spectrum(rgb, kind)))
         }
         ParamType::Blackbody => match p.numbers() {
             [t] if *t > 0.0 => Ok(Some(Spectrum::Blackbody(BlackbodySpectrum::new(*t as f32)))),
