@@ -388,6 +388,13 @@ mod tests {
     }
 
     #[test]
+    fn colour_spaces_can_be_shared_between_render_threads() {
+        fn assert_sync_send<T: Sync + Send>() {}
+        assert_sync_send::<RgbColorSpace>();
+        assert_sync_send::<RgbToSpectrumTable>();
+    }
+
+    #[test]
     fn degenerate_primaries_are_refused() {
         let d65 = named_spectrum("stdillum-D65").unwrap();
         let p = Vec2::new(0.3, 0.3);

@@ -253,26 +253,24 @@ mod tests {
         cs.to_rgb(crate::spectrum::spectrum_to_xyz(&lit.into()))
     }
 
-    /// The albedo RGBs of a 17³ grid over [0, 1]³ (corners, edges and
-    /// faces included: the saturated colours) round-trip through their
-    /// spectra: on average within `mean_bound` per component, and all but
-    /// `allowed_outliers` within 2e-3.
-    ///
-    /// The outliers are near-white yellows (R = G = 1, B ≈ 0.92–0.98):
-    /// their exact fits need a coefficient above pbrt's limit of 200 (see
-    /// `rgb_to_spectrum_fit`), which is kept so that renders match pbrt's;
-    /// they stay within 5e-2.
-    fn assert_round_trip(
-        name: crate::scene::description::ColorSpaceName,
-        mean_bound: f64,
-        allowed_outliers: usize,
-    ) {
+    /// Round-trip errors of albedo RGBs through their spectra.
+    struct RoundTrip {
+        mean: f64,
+        worst: (f32, Vec3, Vec3),
+        /// RGBs (and what came back) off by more than 2e-3.
+        large: Vec<(Vec3, Vec3)>,
+    }
+
+    /// Converts each RGB of a 17³ grid over [0, 1]³ (corners, edges and
+    /// faces included: the saturated colours) to an albedo spectrum and
+    /// back, and reports the per-component errors.
+    fn round_trip(name: crate::scene::description::ColorSpaceName) -> RoundTrip {
         use crate::spectrum::SpectrumKind;
         let cs = crate::spectrum::color_space::get(name);
         let steps = 16;
         let mut worst = (0.0_f32, Vec3::ZERO, Vec3::ZERO);
         let mut total = 0.0_f64;
-        let mut count = 0;
+        let mut count = 0_u32;
         let mut large = Vec::new();
         for r in 0..=steps {
             for g in 0..=steps {
@@ -292,31 +290,63 @@ mod tests {
                 }
             }
         }
-        eprintln!(
-            "{name:?} albedo round trip over {count} RGBs: mean error {:.2e}, worst {:.2e} at {} -> {}",
-            total / f64::from(count),
-            worst.0,
-            worst.1,
-            worst.2
-        );
         let mean = total / f64::from(count);
-        assert!(mean < mean_bound, "{name:?}: mean error {mean}");
-        assert!(
-            large.len() <= allowed_outliers,
-            "{name:?}: errors above 2e-3: {large:?}"
-        );
-        assert!(
-            worst.0 < 5e-2,
-            "{name:?}: worst error {} at {} -> {}",
+        eprintln!(
+            "{name:?} albedo round trip over {count} RGBs: mean error {mean:.2e}, \
+             {} above 2e-3, worst {:.2e} at {} -> {}",
+            large.len(),
             worst.0,
             worst.1,
             worst.2
         );
+        RoundTrip { mean, worst, large }
     }
 
+    /// sRGB albedos come back within 2e-3 per component, on average within
+    /// 3e-4 (pbrt's own tables are about as good). The one exception on
+    /// the grid is a near-white yellow, (1, 1, 0.9375): the exact fits of
+    /// R = G = 1, B ≈ 0.92–0.98 need a coefficient above pbrt's limit of
+    /// 200 (see `rgb_to_spectrum_fit`), kept so that renders match pbrt's;
+    /// they stay within 5e-2.
     #[test]
     fn srgb_albedo_round_trips() {
-        assert_round_trip(crate::scene::description::ColorSpaceName::Srgb, 3e-4, 1);
+        let result = round_trip(crate::scene::description::ColorSpaceName::Srgb);
+        assert!(result.mean < 3e-4, "mean error {}", result.mean);
+        assert!(
+            result.large.len() <= 1,
+            "errors above 2e-3: {:?}",
+            result.large
+        );
+        assert!(result.worst.0 < 5e-2, "worst: {:?}", result.worst);
+        for (rgb, _) in &result.large {
+            assert!(
+                rgb.x == 1.0 && rgb.y == 1.0 && rgb.z > 0.9,
+                "unexpected outlier {rgb}"
+            );
+        }
+    }
+
+    /// The wide-gamut spaces: their most saturated RGBs lie outside what a
+    /// reflectance can reach (ACES's primaries are not even real colours),
+    /// so only typical error is bounded, as a guard against regressions.
+    /// Fits three more tables, so not run by default:
+    /// `cargo test --release --lib wide_gamut -- --ignored --nocapture`.
+    #[test]
+    #[ignore]
+    fn wide_gamut_albedo_round_trips() {
+        use crate::scene::description::ColorSpaceName;
+        for (name, mean_bound) in [
+            (ColorSpaceName::DciP3, 3e-3),
+            (ColorSpaceName::Rec2020, 2e-2),
+            (ColorSpaceName::Aces2065_1, 0.12),
+        ] {
+            let result = round_trip(name);
+            assert!(
+                result.mean < mean_bound,
+                "{name:?}: mean error {}",
+                result.mean
+            );
+        }
     }
 
     #[test]
