@@ -15,7 +15,7 @@
 
 use crate::error::{scene_error, Result};
 use crate::scene::description::Entity;
-use crate::spectrum::color_space::RgbColorSpace;
+
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::{IVec2, Mat3, Vec3};
 use std::path::PathBuf;
@@ -118,7 +118,9 @@ impl RgbFilm {
     /// Radiance at the sampled wavelengths → sensor RGB (here CIE XYZ),
     /// clamped by `maxcomponentvalue`.
     pub fn sensor_rgb(&self, l: SampledSpectrum, lambda: &SampledWavelengths) -> Vec3 {
-        let mut rgb = self.imaging_ratio * l.to_xyz(lambda);
+        // pbrt-v4's sensor integrates against x̄, ȳ, z̄ without dividing by
+        // ∫ȳ (lights are normalised photometrically instead).
+        let mut rgb = self.imaging_ratio * crate::spectrum::CIE_Y_INTEGRAL * l.to_xyz(lambda);
         let m = rgb.max_element();
         if m > self.max_component_value {
             rgb *= self.max_component_value / m;

@@ -6,7 +6,7 @@ use crate::math::Transform;
 use crate::scene::description::{self, Entity};
 use crate::scene::spectrum_param::spectrum_param;
 use crate::shapes::{Shape, ShapeStorage};
-use crate::spectrum::color_space::{RgbColorSpace, SpectrumKind};
+use crate::spectrum::color_space::SpectrumKind;
 use crate::spectrum::{spectrum_to_photometric as photometric, Spectrum};
 use glam::{DVec3, Vec3};
 use std::f32::consts::PI;

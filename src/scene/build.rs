@@ -9,7 +9,7 @@ use crate::error::{scene_error, Result};
 use crate::film::RgbFilm;
 use crate::filters::Filter;
 use crate::interaction::SurfaceInteraction;
-use crate::lights::{self, DiffuseAreaLight, Light, LightSampler};
+use crate::lights::{self, Light, LightSampler};
 use crate::materials::Material;
 use crate::math::{offset_ray_origin, Bounds3, Ray};
 use crate::samplers::Sampler;

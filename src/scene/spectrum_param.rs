@@ -3,7 +3,7 @@
 use super::description::ColorSpaceName;
 use super::ParamSet;
 use crate::error::{scene_error, Result};
-use crate::spectrum::color_space::{RgbColorSpace, SpectrumKind};
+use crate::spectrum::color_space::SpectrumKind;
 use crate::spectrum::{named_spectrum, read_spectrum_file, BlackbodySpectrum, PiecewiseLinear, Spectrum};
 use glam::Vec3;
 use pbrt_parser::ParamType;
