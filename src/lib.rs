@@ -5,6 +5,7 @@
 //! See `docs/architecture.md`.
 
 pub mod error;
+pub mod filters;
 pub mod interaction;
 pub mod math;
 pub mod samplers;
