@@ -27,7 +27,12 @@ pub struct RenderReport {
 }
 
 /// Renders `path` with `threads` threads and writes the image.
-pub fn render_file(path: &Path, overrides: &RenderOverrides, threads: usize, show_progress: bool) -> Result<RenderReport> {
+pub fn render_file(
+    path: &Path,
+    overrides: &RenderOverrides,
+    threads: usize,
+    show_progress: bool,
+) -> Result<RenderReport> {
     let start = Instant::now();
     let loaded = crate::scene::load(path)?;
     let built = build(&loaded.scene, overrides)?;
@@ -48,7 +53,11 @@ pub fn render_file(path: &Path, overrides: &RenderOverrides, threads: usize, sho
         || built.sampler.clone(),
         |sampler, pixel, index, acc| {
             sampler.start_pixel_sample(pixel, index, 0);
-            let lu = if disable_jitter { 0.5 } else { sampler.get_1d() };
+            let lu = if disable_jitter {
+                0.5
+            } else {
+                sampler.get_1d()
+            };
             let mut lambda = SampledWavelengths::sample_visible(lu);
             let fs = built.filter.sample(sampler.get_pixel_2d());
             let sample = CameraSample {
@@ -68,7 +77,10 @@ pub fn render_file(path: &Path, overrides: &RenderOverrides, threads: usize, sho
             film.add_sample(acc, l, &lambda, sample.filter_weight);
         },
     )
-    .map_err(|e| Error::Io { path: "<thread pool>".into(), source: std::io::Error::other(e) })?;
+    .map_err(|e| Error::Io {
+        path: "<thread pool>".into(),
+        source: std::io::Error::other(e),
+    })?;
 
     let (lo, hi) = film.pixel_bounds;
     let (w, h) = ((hi.x - lo.x) as u32, (hi.y - lo.y) as u32);
@@ -82,9 +94,14 @@ pub fn render_file(path: &Path, overrides: &RenderOverrides, threads: usize, sho
         source: std::io::Error::other(e.to_string()),
     };
     let image = Image::from_rgb(w, h, data).map_err(io_error)?;
-    let is_exr = film.filename.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+    let is_exr = film
+        .filename
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
     if is_exr {
-        image.write_exr(&film.filename, film.save_fp16).map_err(io_error)?;
+        image
+            .write_exr(&film.filename, film.save_fp16)
+            .map_err(io_error)?;
     } else {
         image.write(&film.filename).map_err(io_error)?;
     }

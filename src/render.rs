@@ -48,10 +48,12 @@ where
     let tiles: Vec<(IVec2, IVec2)> = (bounds.0.y..bounds.1.y)
         .step_by(TILE as usize)
         .flat_map(|y| {
-            (bounds.0.x..bounds.1.x).step_by(TILE as usize).map(move |x| {
-                let lo = IVec2::new(x, y);
-                (lo, (lo + IVec2::splat(TILE)).min(bounds.1))
-            })
+            (bounds.0.x..bounds.1.x)
+                .step_by(TILE as usize)
+                .map(move |x| {
+                    let lo = IVec2::new(x, y);
+                    (lo, (lo + IVec2::splat(TILE)).min(bounds.1))
+                })
         })
         .collect();
     let waves = waves(spp);
@@ -59,14 +61,18 @@ where
     let bar = if show_progress {
         let bar = ProgressBar::new(total.max(1));
         bar.set_style(
-            ProgressStyle::with_template("{spinner} [{elapsed_precise}] {wide_bar} {percent}% (ETA {eta})")
-                .unwrap_or_else(|_| ProgressStyle::default_bar()),
+            ProgressStyle::with_template(
+                "{spinner} [{elapsed_precise}] {wide_bar} {percent}% (ETA {eta})",
+            )
+            .unwrap_or_else(|_| ProgressStyle::default_bar()),
         );
         bar
     } else {
         ProgressBar::hidden()
     };
-    let pool = rayon::ThreadPoolBuilder::new().num_threads(threads).build()?;
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()?;
     let mut samples_completed = 0;
     let mut interrupted = false;
     for (first, end) in waves {
@@ -85,21 +91,26 @@ where
             })
             .collect();
         pool.install(|| {
-            tiles.par_iter().zip(tile_pixels.par_iter_mut()).for_each_init(&make_state, |state, ((lo, hi), acc)| {
-                if interrupt.load(Ordering::Relaxed) {
-                    return;
-                }
-                let mut k = 0;
-                for y in lo.y..hi.y {
-                    for x in lo.x..hi.x {
-                        for s in first..end {
-                            evaluate(state, IVec2::new(x, y), s, &mut acc[k]);
-                        }
-                        k += 1;
+            tiles
+                .par_iter()
+                .zip(tile_pixels.par_iter_mut())
+                .for_each_init(&make_state, |state, ((lo, hi), acc)| {
+                    if interrupt.load(Ordering::Relaxed) {
+                        return;
                     }
-                }
-                bar.inc(((end - first) as i64 * (hi.x - lo.x) as i64 * (hi.y - lo.y) as i64) as u64);
-            });
+                    let mut k = 0;
+                    for y in lo.y..hi.y {
+                        for x in lo.x..hi.x {
+                            for s in first..end {
+                                evaluate(state, IVec2::new(x, y), s, &mut acc[k]);
+                            }
+                            k += 1;
+                        }
+                    }
+                    bar.inc(
+                        ((end - first) as i64 * (hi.x - lo.x) as i64 * (hi.y - lo.y) as i64) as u64,
+                    );
+                });
         });
         if interrupt.load(Ordering::Relaxed) {
             // Discard the partial wave: every pixel keeps the same count.
@@ -183,31 +194,51 @@ mod tests {
         let bounds = (IVec2::new(3, 5), IVec2::new(70, 41));
         let run = |threads| {
             let flag = AtomicBool::new(false);
-            render(bounds, 7, threads, false, &flag, || 0u64, |calls, p, s, px| {
-                *calls += 1;
-                // A deterministic function of (pixel, sample).
-                let v = ((p.x * 31 + p.y * 17 + s as i32 * 7) % 13) as f64;
-                px.rgb_sum[0] += v;
-                px.weight_sum += 1.0;
-            })
+            render(
+                bounds,
+                7,
+                threads,
+                false,
+                &flag,
+                || 0u64,
+                |calls, p, s, px| {
+                    *calls += 1;
+                    // A deterministic function of (pixel, sample).
+                    let v = ((p.x * 31 + p.y * 17 + s as i32 * 7) % 13) as f64;
+                    px.rgb_sum[0] += v;
+                    px.weight_sum += 1.0;
+                },
+            )
             .unwrap()
         };
         let a = run(1);
         let b = run(2);
         assert_eq!(a.samples_completed, 7);
-        assert!(a.pixels.iter().zip(&b.pixels).all(|(x, y)| x.rgb_sum == y.rgb_sum && x.weight_sum == y.weight_sum));
+        assert!(a
+            .pixels
+            .iter()
+            .zip(&b.pixels)
+            .all(|(x, y)| x.rgb_sum == y.rgb_sum && x.weight_sum == y.weight_sum));
         assert!(a.pixels.iter().all(|p| p.weight_sum == 7.0));
     }
 
     #[test]
     fn an_interrupt_keeps_whole_waves() {
         let flag = AtomicBool::new(false);
-        let out = render((IVec2::ZERO, IVec2::new(40, 40)), 64, 2, false, &flag, || (), |_, p, s, px| {
-            if s == 5 && p == IVec2::new(20, 20) {
-                flag.store(true, Ordering::Relaxed);
-            }
-            px.weight_sum += 1.0;
-        })
+        let out = render(
+            (IVec2::ZERO, IVec2::new(40, 40)),
+            64,
+            2,
+            false,
+            &flag,
+            || (),
+            |_, p, s, px| {
+                if s == 5 && p == IVec2::new(20, 20) {
+                    flag.store(true, Ordering::Relaxed);
+                }
+                px.weight_sum += 1.0;
+            },
+        )
         .unwrap();
         assert!(out.interrupted);
         assert!(out.samples_completed < 64);

@@ -10,7 +10,11 @@ fn render(name: &str, scene: &str, spp: u32, threads: usize) -> Image {
     let path = dir.join("scene.pbrt");
     std::fs::write(&path, scene).unwrap();
     let out: PathBuf = dir.join("out.exr");
-    let overrides = RenderOverrides { spp: Some(spp), outfile: Some(out.clone()), ..Default::default() };
+    let overrides = RenderOverrides {
+        spp: Some(spp),
+        outfile: Some(out.clone()),
+        ..Default::default()
+    };
     rpbrt::pipeline::render_file(&path, &overrides, threads, false).unwrap();
     let image = Image::read(&out).unwrap();
     std::fs::remove_dir_all(&dir).ok();

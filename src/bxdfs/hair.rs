@@ -511,7 +511,8 @@ mod tests {
                         );
                     }
                     let wi = sample_uniform_sphere(rng.v2());
-                    uniform += (bxdf.value(wo, wi).average() * wi.z.abs() / UNIFORM_SPHERE_PDF) as f64;
+                    uniform +=
+                        (bxdf.value(wo, wi).average() * wi.z.abs() / UNIFORM_SPHERE_PDF) as f64;
                 }
                 let (a, b) = (importance / n as f64, uniform / n as f64);
                 assert!((a - b).abs() / b < 0.05, "β_m {bm} β_n {bn}: {a} vs {b}");
@@ -662,7 +663,13 @@ impl HairBxDF {
         Some(super::BSDFSample::new(s.f, s.wi, s.pdf, self.flags()))
     }
 
-    pub fn pdf(&self, wo: Vec3, wi: Vec3, _mode: super::TransportMode, sample_flags: super::BxDFReflTransFlags) -> f32 {
+    pub fn pdf(
+        &self,
+        wo: Vec3,
+        wi: Vec3,
+        _mode: super::TransportMode,
+        sample_flags: super::BxDFReflTransFlags,
+    ) -> f32 {
         if !self.flags().allows(sample_flags) {
             return 0.0;
         }

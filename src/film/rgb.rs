@@ -44,19 +44,30 @@ pub struct RgbFilm {
 impl RgbFilm {
     /// `exposure_time`: the camera's shutter interval. `outfile` overrides
     /// the scene's file name (`--outfile`).
-    pub fn create(entity: &Entity, exposure_time: f32, outfile: Option<PathBuf>, base_directory: &std::path::Path) -> Result<Self> {
+    pub fn create(
+        entity: &Entity,
+        exposure_time: f32,
+        outfile: Option<PathBuf>,
+        base_directory: &std::path::Path,
+    ) -> Result<Self> {
         let p = &entity.params;
         let loc = &entity.location.0;
         if entity.kind != "rgb" {
             return scene_error(
-                format!("film \"{}\" is not supported yet (supported: rgb)", entity.kind),
+                format!(
+                    "film \"{}\" is not supported yet (supported: rgb)",
+                    entity.kind
+                ),
                 loc,
             );
         }
         let xres = p.int("xresolution", 1280)?;
         let yres = p.int("yresolution", 720)?;
         if xres <= 0 || yres <= 0 {
-            return scene_error(format!("film resolution {xres}×{yres} must be positive"), loc);
+            return scene_error(
+                format!("film resolution {xres}×{yres} must be positive"),
+                loc,
+            );
         }
         let full = IVec2::new(xres, yres);
         let mut bounds = (IVec2::ZERO, full);
@@ -80,7 +91,9 @@ impl RgbFilm {
         if bounds.1.x <= bounds.0.x || bounds.1.y <= bounds.0.y {
             return scene_error("the film's pixel bounds are empty", loc);
         }
-        let filename = outfile.unwrap_or_else(|| base_directory.join(p.string("filename", "pbrt.exr").unwrap_or_default()));
+        let filename = outfile.unwrap_or_else(|| {
+            base_directory.join(p.string("filename", "pbrt.exr").unwrap_or_default())
+        });
         let save_fp16 = p.bool("savefp16", true)?;
         let iso = p.float("iso", 100.0)? as f32;
         let white_balance = p.float("whitebalance", 0.0)?;
@@ -89,7 +102,10 @@ impl RgbFilm {
         p.float("diagonal", 35.0)?;
         p.report_unused(|| "film \"rgb\"".into())?;
         if sensor != "cie1931" {
-            return scene_error(format!("film sensor \"{sensor}\" is not supported yet (supported: cie1931)"), loc);
+            return scene_error(
+                format!("film sensor \"{sensor}\" is not supported yet (supported: cie1931)"),
+                loc,
+            );
         }
         if white_balance != 0.0 {
             return scene_error("film \"whitebalance\" is not supported yet", loc);
@@ -108,7 +124,10 @@ impl RgbFilm {
 
     /// Replaces the pixel bounds (`--pixelbounds`, `--cropwindow`).
     pub fn set_pixel_bounds(&mut self, bounds: (IVec2, IVec2)) {
-        self.pixel_bounds = (bounds.0.clamp(IVec2::ZERO, self.full_resolution), bounds.1.clamp(IVec2::ZERO, self.full_resolution));
+        self.pixel_bounds = (
+            bounds.0.clamp(IVec2::ZERO, self.full_resolution),
+            bounds.1.clamp(IVec2::ZERO, self.full_resolution),
+        );
     }
 
     pub fn crop_window_bounds(&self, crop: [f64; 4]) -> (IVec2, IVec2) {
@@ -128,7 +147,13 @@ impl RgbFilm {
         rgb
     }
 
-    pub fn add_sample(&self, pixel: &mut Pixel, l: SampledSpectrum, lambda: &SampledWavelengths, weight: f32) {
+    pub fn add_sample(
+        &self,
+        pixel: &mut Pixel,
+        l: SampledSpectrum,
+        lambda: &SampledWavelengths,
+        weight: f32,
+    ) {
         let rgb = self.sensor_rgb(l, lambda);
         for i in 0..3 {
             pixel.rgb_sum[i] += (weight * rgb[i]) as f64;
@@ -156,7 +181,13 @@ fn crop_to_bounds(crop: [f64; 4], full: IVec2) -> (IVec2, IVec2) {
     let (x0, x1) = (c(crop[0].min(crop[1])), c(crop[0].max(crop[1])));
     let (y0, y1) = (c(crop[2].min(crop[3])), c(crop[2].max(crop[3])));
     (
-        IVec2::new((full.x as f64 * x0).ceil() as i32, (full.y as f64 * y0).ceil() as i32),
-        IVec2::new((full.x as f64 * x1).ceil() as i32, (full.y as f64 * y1).ceil() as i32),
+        IVec2::new(
+            (full.x as f64 * x0).ceil() as i32,
+            (full.y as f64 * y0).ceil() as i32,
+        ),
+        IVec2::new(
+            (full.x as f64 * x1).ceil() as i32,
+            (full.y as f64 * y1).ceil() as i32,
+        ),
     )
 }

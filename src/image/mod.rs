@@ -20,8 +20,8 @@ pub mod pixel_format;
 mod png_tga_jpeg_file;
 mod pyramid;
 mod resample;
-pub mod wrap_mode;
 mod rgb;
+pub mod wrap_mode;
 
 pub use color_encoding::ColorEncoding;
 pub use image_buffer::{Image, NonFiniteSample};

@@ -13,11 +13,22 @@ use crate::scene::build::BuiltScene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 
 fn light_context(si: &SurfaceInteraction) -> LightSampleContext {
-    LightSampleContext { p: si.p, p_error: si.p_error, n: si.n, ns: si.shading.n, time: si.time }
+    LightSampleContext {
+        p: si.p,
+        p_error: si.p_error,
+        n: si.n,
+        ns: si.shading.n,
+        time: si.time,
+    }
 }
 
 /// Radiance arriving along `ray` at the path's wavelengths.
-pub fn path_li(scene: &BuiltScene, mut ray: Ray, lambda: &mut SampledWavelengths, sampler: &mut Sampler) -> SampledSpectrum {
+pub fn path_li(
+    scene: &BuiltScene,
+    mut ray: Ray,
+    lambda: &mut SampledWavelengths,
+    sampler: &mut Sampler,
+) -> SampledSpectrum {
     let max_depth = scene.integrator.max_depth;
     let regularize = scene.integrator.regularize;
     let mut l = SampledSpectrum::ZERO;
@@ -36,7 +47,8 @@ pub fn path_li(scene: &BuiltScene, mut ray: Ray, lambda: &mut SampledWavelengths
                 let le = light.le(&ray, lambda);
                 match (&prev_ctx, depth == 0 || specular_bounce) {
                     (Some(ctx), false) => {
-                        let p_l = scene.light_sampler.pmf(ctx, i) * light.pdf_li(ctx, ray.direction, &scene.shapes, true);
+                        let p_l = scene.light_sampler.pmf(ctx, i)
+                            * light.pdf_li(ctx, ray.direction, &scene.shapes, true);
                         l += beta * le * power_heuristic(1.0, p_b, 1.0, p_l);
                     }
                     _ => l += beta * le,
@@ -86,7 +98,13 @@ pub fn path_li(scene: &BuiltScene, mut ray: Ray, lambda: &mut SampledWavelengths
 
         let wo = si.wo;
         let u = sampler.get_1d();
-        let Some(bs) = bsdf.sample_f(wo, u, sampler.get_2d(), TransportMode::Radiance, BxDFReflTransFlags::All) else {
+        let Some(bs) = bsdf.sample_f(
+            wo,
+            u,
+            sampler.get_2d(),
+            TransportMode::Radiance,
+            BxDFReflTransFlags::All,
+        ) else {
             break;
         };
         beta *= bs.f * (bs.wi.dot(si.shading.n).abs() / bs.pdf);
@@ -120,7 +138,13 @@ pub fn path_li(scene: &BuiltScene, mut ray: Ray, lambda: &mut SampledWavelengths
 
 /// Direct lighting at `si` from one sampled light, MIS-weighted against
 /// BSDF sampling.
-fn sample_ld(scene: &BuiltScene, si: &SurfaceInteraction, bsdf: &BSDF, lambda: &SampledWavelengths, sampler: &mut Sampler) -> SampledSpectrum {
+fn sample_ld(
+    scene: &BuiltScene,
+    si: &SurfaceInteraction,
+    bsdf: &BSDF,
+    lambda: &SampledWavelengths,
+    sampler: &mut Sampler,
+) -> SampledSpectrum {
     let mut ctx = light_context(si);
     let flags = bsdf.flags();
     // Offset the reference point to the side light can arrive from.
@@ -146,9 +170,17 @@ fn sample_ld(scene: &BuiltScene, si: &SurfaceInteraction, bsdf: &BSDF, lambda: &
         return SampledSpectrum::ZERO;
     }
     let p_l = p_light * ls.pdf;
-    if matches!(light.kind(), LightKind::DeltaPosition | LightKind::DeltaDirection) {
+    if matches!(
+        light.kind(),
+        LightKind::DeltaPosition | LightKind::DeltaDirection
+    ) {
         return ls.l * f / p_l;
     }
-    let p_b = bsdf.pdf(si.wo, ls.wi, TransportMode::Radiance, BxDFReflTransFlags::All);
+    let p_b = bsdf.pdf(
+        si.wo,
+        ls.wi,
+        TransportMode::Radiance,
+        BxDFReflTransFlags::All,
+    );
     ls.l * f * (power_heuristic(1.0, p_l, 1.0, p_b) / p_l)
 }

@@ -18,13 +18,21 @@ use std::path::Path;
 fn emission(entity: &Entity, name: &str, base: &Path) -> Result<(Spectrum, f32)> {
     let p = &entity.params;
     let spectrum = spectrum_param(p, name, SpectrumKind::Illuminant, entity.color_space, base)?
-        .unwrap_or_else(|| crate::spectrum::color_space::get(entity.color_space).illuminant.clone());
+        .unwrap_or_else(|| {
+            crate::spectrum::color_space::get(entity.color_space)
+                .illuminant
+                .clone()
+        });
     let scale = p.float("scale", 1.0)? as f32 / photometric(&spectrum);
     Ok((spectrum, scale))
 }
 
 /// A `LightSource`.
-pub fn create_light(light: &description::Light, render_from_world: &Transform, base: &Path) -> Result<Light> {
+pub fn create_light(
+    light: &description::Light,
+    render_from_world: &Transform,
+    base: &Path,
+) -> Result<Light> {
     let e = &light.entity;
     let p = &e.params;
     let loc = &e.location.0;
@@ -135,14 +143,27 @@ pub fn create_light(light: &description::Light, render_from_world: &Transform, b
 }
 
 /// The `AreaLightSource "diffuse"` of one shape.
-pub fn create_area_light(entity: &Entity, shape: &Shape, shapes: &ShapeStorage, base: &Path) -> Result<DiffuseAreaLight> {
+pub fn create_area_light(
+    entity: &Entity,
+    shape: &Shape,
+    shapes: &ShapeStorage,
+    base: &Path,
+) -> Result<DiffuseAreaLight> {
     let p = &entity.params;
     let loc = &entity.location.0;
     if entity.kind != "diffuse" {
-        return scene_error(format!("area light \"{}\" unknown (expected diffuse)", entity.kind), loc);
+        return scene_error(
+            format!("area light \"{}\" unknown (expected diffuse)", entity.kind),
+            loc,
+        );
     }
-    if p.find("filename", &[pbrt_parser::ParamType::String])?.is_some() {
-        return scene_error("area lights with an image (\"filename\") are not supported yet", loc);
+    if p.find("filename", &[pbrt_parser::ParamType::String])?
+        .is_some()
+    {
+        return scene_error(
+            "area lights with an image (\"filename\") are not supported yet",
+            loc,
+        );
     }
     let (radiance, mut scale) = emission(entity, "L", base)?;
     let two_sided = p.bool("twosided", false)?;
@@ -154,5 +175,11 @@ pub fn create_area_light(entity: &Entity, shape: &Shape, shapes: &ShapeStorage, 
         scale *= power / k_e;
     }
     p.report_unused(|| "area light \"diffuse\"".into())?;
-    Ok(DiffuseAreaLight { shape: shape.clone(), radiance, scale, two_sided, area })
+    Ok(DiffuseAreaLight {
+        shape: shape.clone(),
+        radiance,
+        scale,
+        two_sided,
+        area,
+    })
 }

@@ -25,7 +25,11 @@ impl DistantLight {
         self.scene_radius = radius;
     }
 
-    pub fn sample_li(&self, ctx: &LightSampleContext, lambda: &SampledWavelengths) -> Option<LightLiSample> {
+    pub fn sample_li(
+        &self,
+        ctx: &LightSampleContext,
+        lambda: &SampledWavelengths,
+    ) -> Option<LightLiSample> {
         let wi = self.towards_light;
         Some(LightLiSample {
             l: self.radiance.sample(lambda) * self.scale,

@@ -13,7 +13,9 @@
 //! (pbrt-v4's approach).
 
 use super::{LightLiSample, LightSampleContext};
-use crate::math::equal_area::{equal_area_sphere_to_square, equal_area_square_to_sphere, wrap_equal_area_square};
+use crate::math::equal_area::{
+    equal_area_sphere_to_square, equal_area_square_to_sphere, wrap_equal_area_square,
+};
 use crate::samplers::distribution::{Domain2D, PiecewiseConstant2D};
 use crate::spectrum::color_space::{RgbColorSpace, SpectrumKind};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
@@ -35,7 +37,13 @@ pub struct ImageInfiniteLight {
 }
 
 impl ImageInfiniteLight {
-    pub fn new(render_from_light: Mat4, rgb: Vec<[f32; 3]>, resolution: i32, color_space: &'static RgbColorSpace, scale: f32) -> Self {
+    pub fn new(
+        render_from_light: Mat4,
+        rgb: Vec<[f32; 3]>,
+        resolution: i32,
+        color_space: &'static RgbColorSpace,
+        scale: f32,
+    ) -> Self {
         let n = resolution as usize;
         let d: Vec<f32> = rgb.iter().map(|c| (c[0] + c[1] + c[2]) / 3.0).collect();
         let domain = Domain2D::UNIT;
@@ -72,21 +80,40 @@ impl ImageInfiniteLight {
         let p = wrap_equal_area_square(p, IVec2::splat(r));
         let c = self.rgb[(p.y * r + p.x) as usize];
         let rgb = Vec3::new(c[0].max(0.0), c[1].max(0.0), c[2].max(0.0));
-        self.color_space.rgb_to_spectrum(rgb, SpectrumKind::Illuminant).sample(lambda) * self.scale
+        self.color_space
+            .rgb_to_spectrum(rgb, SpectrumKind::Illuminant)
+            .sample(lambda)
+            * self.scale
     }
 
     pub fn le(&self, direction: Vec3, lambda: &SampledWavelengths) -> SampledSpectrum {
-        let w = self.light_from_render.transform_vector3(direction).normalize();
+        let w = self
+            .light_from_render
+            .transform_vector3(direction)
+            .normalize();
         self.image_le(equal_area_sphere_to_square(w), lambda)
     }
 
-    pub fn sample_li(&self, ctx: &LightSampleContext, u: Vec2, lambda: &SampledWavelengths, allow_incomplete_pdf: bool) -> Option<LightLiSample> {
-        let dist = if allow_incomplete_pdf { &self.compensated } else { &self.distribution };
+    pub fn sample_li(
+        &self,
+        ctx: &LightSampleContext,
+        u: Vec2,
+        lambda: &SampledWavelengths,
+        allow_incomplete_pdf: bool,
+    ) -> Option<LightLiSample> {
+        let dist = if allow_incomplete_pdf {
+            &self.compensated
+        } else {
+            &self.distribution
+        };
         let (uv, map_pdf) = dist.sample(u);
         if map_pdf == 0.0 {
             return None;
         }
-        let wi = self.render_from_light.transform_vector3(equal_area_square_to_sphere(uv)).normalize();
+        let wi = self
+            .render_from_light
+            .transform_vector3(equal_area_square_to_sphere(uv))
+            .normalize();
         Some(LightLiSample {
             l: self.image_le(uv, lambda),
             wi,
@@ -100,7 +127,11 @@ impl ImageInfiniteLight {
     pub fn pdf_li(&self, wi: Vec3, allow_incomplete_pdf: bool) -> f32 {
         let w = self.light_from_render.transform_vector3(wi).normalize();
         let uv = equal_area_sphere_to_square(w);
-        let dist = if allow_incomplete_pdf { &self.compensated } else { &self.distribution };
+        let dist = if allow_incomplete_pdf {
+            &self.compensated
+        } else {
+            &self.distribution
+        };
         dist.pdf(uv) / (4.0 * PI)
     }
 
@@ -109,8 +140,12 @@ impl ImageInfiniteLight {
         let mut sum = SampledSpectrum::ZERO;
         for c in &self.rgb {
             let rgb = Vec3::new(c[0].max(0.0), c[1].max(0.0), c[2].max(0.0));
-            sum += self.color_space.rgb_to_spectrum(rgb, SpectrumKind::Illuminant).sample(lambda);
+            sum += self
+                .color_space
+                .rgb_to_spectrum(rgb, SpectrumKind::Illuminant)
+                .sample(lambda);
         }
-        sum * (4.0 * PI * PI * self.scene_radius * self.scene_radius * self.scale / self.rgb.len().max(1) as f32)
+        sum * (4.0 * PI * PI * self.scene_radius * self.scene_radius * self.scale
+            / self.rgb.len().max(1) as f32)
     }
 }

@@ -98,7 +98,13 @@ impl Light {
     }
 
     /// Solid-angle density with which `sample_li` picks `wi`.
-    pub fn pdf_li(&self, ctx: &LightSampleContext, wi: Vec3, shapes: &ShapeStorage, allow_incomplete_pdf: bool) -> f32 {
+    pub fn pdf_li(
+        &self,
+        ctx: &LightSampleContext,
+        wi: Vec3,
+        shapes: &ShapeStorage,
+        allow_incomplete_pdf: bool,
+    ) -> f32 {
         match self {
             Light::Point(_) | Light::Spot(_) | Light::Distant(_) => 0.0,
             Light::UniformInfinite(l) => l.pdf_li(allow_incomplete_pdf),

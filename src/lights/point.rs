@@ -19,7 +19,11 @@ pub struct PointLight {
 }
 
 impl PointLight {
-    pub fn sample_li(&self, ctx: &LightSampleContext, lambda: &SampledWavelengths) -> Option<LightLiSample> {
+    pub fn sample_li(
+        &self,
+        ctx: &LightSampleContext,
+        lambda: &SampledWavelengths,
+    ) -> Option<LightLiSample> {
         let d = self.position - ctx.p;
         let dist2 = d.length_squared();
         if dist2 == 0.0 {

@@ -23,10 +23,19 @@ impl LightSampler {
     /// Probabilities proportional to each light's power (its average over
     /// four stratified wavelengths), as pbrt-v4's PowerLightSampler.
     pub fn power(lights: &[Light], shapes: &ShapeStorage) -> Self {
-        let lambda = SampledWavelengths::sample_uniform(0.5, crate::spectrum::LAMBDA_MIN, crate::spectrum::LAMBDA_MAX);
+        let lambda = SampledWavelengths::sample_uniform(
+            0.5,
+            crate::spectrum::LAMBDA_MIN,
+            crate::spectrum::LAMBDA_MAX,
+        );
         let weights: Vec<f32> = lights
             .iter()
-            .map(|l| l.phi(&lambda, shapes).safe_div(lambda.pdf()).average().max(0.0))
+            .map(|l| {
+                l.phi(&lambda, shapes)
+                    .safe_div(lambda.pdf())
+                    .average()
+                    .max(0.0)
+            })
             .collect();
         if weights.iter().sum::<f32>() > 0.0 {
             Self::from_weights(&weights)
@@ -37,7 +46,16 @@ impl LightSampler {
 
     fn from_weights(weights: &[f32]) -> Self {
         let total: f64 = weights.iter().map(|&w| w as f64).sum();
-        let pmf: Vec<f32> = weights.iter().map(|&w| if total > 0.0 { (w as f64 / total) as f32 } else { 0.0 }).collect();
+        let pmf: Vec<f32> = weights
+            .iter()
+            .map(|&w| {
+                if total > 0.0 {
+                    (w as f64 / total) as f32
+                } else {
+                    0.0
+                }
+            })
+            .collect();
         let mut cdf = Vec::with_capacity(pmf.len());
         let mut acc = 0.0f64;
         for &w in weights {
@@ -55,7 +73,10 @@ impl LightSampler {
         if self.cdf.is_empty() {
             return None;
         }
-        let i = self.cdf.partition_point(|&c| c <= u).min(self.cdf.len() - 1);
+        let i = self
+            .cdf
+            .partition_point(|&c| c <= u)
+            .min(self.cdf.len() - 1);
         let p = self.pmf[i];
         (p > 0.0).then_some((i, p))
     }

@@ -38,7 +38,11 @@ impl SpotLight {
             * (smooth_step(cos_theta, self.cos_falloff_end, self.cos_falloff_start) * self.scale)
     }
 
-    pub fn sample_li(&self, ctx: &LightSampleContext, lambda: &SampledWavelengths) -> Option<LightLiSample> {
+    pub fn sample_li(
+        &self,
+        ctx: &LightSampleContext,
+        lambda: &SampledWavelengths,
+    ) -> Option<LightLiSample> {
         let d = self.position - ctx.p;
         let dist2 = d.length_squared();
         if dist2 == 0.0 {
@@ -64,6 +68,7 @@ impl SpotLight {
             * (self.scale
                 * 2.0
                 * PI
-                * ((1.0 - self.cos_falloff_start) + (self.cos_falloff_start - self.cos_falloff_end) / 2.0))
+                * ((1.0 - self.cos_falloff_start)
+                    + (self.cos_falloff_start - self.cos_falloff_end) / 2.0))
     }
 }

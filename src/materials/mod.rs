@@ -11,18 +11,20 @@
 //! | `hair` | `sigma_a`, or `reflectance` (alias `color`), or `eumelanin`/`pheomelanin` (default eumelanin 1.3 when none is given); `eta` 1.55, `beta_m` 0.3, `beta_n` 0.3 (both clamped to [0.01, 1]), `alpha` 2° |
 //! | `interface` | none: marks a boundary between media; rays pass through |
 
-use crate::bxdfs::{
-    CoatedDiffuseBxDF, ConductorBxDF, DielectricBxDF, DiffuseBxDF, DiffuseTransmissionBxDF, ThinDielectricBxDF,
-    TrowbridgeReitzDistribution, BSDF, BxDF,
-};
 use crate::bxdfs::hair::HairBxDF;
+use crate::bxdfs::{
+    BxDF, CoatedDiffuseBxDF, ConductorBxDF, DielectricBxDF, DiffuseBxDF, DiffuseTransmissionBxDF,
+    ThinDielectricBxDF, TrowbridgeReitzDistribution, BSDF,
+};
 use crate::error::{scene_error, Result};
-use crate::scene::description::ColorSpaceName;
 use crate::interaction::SurfaceInteraction;
+use crate::scene::description::ColorSpaceName;
 use crate::scene::description::Entity;
 use crate::spectrum::color_space::SpectrumKind;
 use crate::spectrum::{named_spectrum, SampledSpectrum, SampledWavelengths, Spectrum};
-use crate::textures::{FloatTexture, NamedTextures, SpectrumTexture, TextureEvalContext, TextureParams};
+use crate::textures::{
+    FloatTexture, NamedTextures, SpectrumTexture, TextureEvalContext, TextureParams,
+};
 use std::path::Path;
 
 /// Roughness given as (u, v) textures, remapped to α or not.
@@ -66,11 +68,27 @@ pub enum Eta {
 #[derive(Clone, Debug)]
 pub enum Material {
     Interface,
-    Diffuse { reflectance: SpectrumTexture },
-    DiffuseTransmission { reflectance: SpectrumTexture, transmittance: SpectrumTexture, scale: f32 },
-    Conductor { eta: SpectrumTexture, k: SpectrumTexture, reflectance: Option<SpectrumTexture>, roughness: Roughness },
-    Dielectric { eta: Eta, roughness: Roughness },
-    ThinDielectric { eta: Eta },
+    Diffuse {
+        reflectance: SpectrumTexture,
+    },
+    DiffuseTransmission {
+        reflectance: SpectrumTexture,
+        transmittance: SpectrumTexture,
+        scale: f32,
+    },
+    Conductor {
+        eta: SpectrumTexture,
+        k: SpectrumTexture,
+        reflectance: Option<SpectrumTexture>,
+        roughness: Roughness,
+    },
+    Dielectric {
+        eta: Eta,
+        roughness: Roughness,
+    },
+    ThinDielectric {
+        eta: Eta,
+    },
     Hair {
         sigma_a: Option<SpectrumTexture>,
         reflectance: Option<SpectrumTexture>,
@@ -95,11 +113,30 @@ pub enum Material {
 
 fn eta_param(tp: &TextureParams, name: &str) -> Result<Eta> {
     use pbrt_parser::ParamType;
-    if let Some(p) = tp.params.find(name, &[ParamType::Float, ParamType::Spectrum, ParamType::Rgb, ParamType::Blackbody, ParamType::Texture])? {
+    if let Some(p) = tp.params.find(
+        name,
+        &[
+            ParamType::Float,
+            ParamType::Spectrum,
+            ParamType::Rgb,
+            ParamType::Blackbody,
+            ParamType::Texture,
+        ],
+    )? {
         match p.ty {
-            ParamType::Float => return Ok(Eta::Constant(p.numbers().first().copied().unwrap_or(1.5) as f32)),
+            ParamType::Float => {
+                return Ok(Eta::Constant(
+                    p.numbers().first().copied().unwrap_or(1.5) as f32
+                ))
+            }
             ParamType::Spectrum => {
-                if let Some(s) = crate::scene::spectrum_param::spectrum_param(tp.params, name, SpectrumKind::Unbounded, tp.color_space, tp.base_directory)? {
+                if let Some(s) = crate::scene::spectrum_param::spectrum_param(
+                    tp.params,
+                    name,
+                    SpectrumKind::Unbounded,
+                    tp.color_space,
+                    tp.base_directory,
+                )? {
                     // A constant spectrum is a constant index.
                     if let Spectrum::Constant(c) = s {
                         return Ok(Eta::Constant(c));
@@ -107,21 +144,48 @@ fn eta_param(tp: &TextureParams, name: &str) -> Result<Eta> {
                     return Ok(Eta::Spectrum(s));
                 }
             }
-            _ => return scene_error(format!("\"{} {name}\": the index of refraction must be a float or a spectrum", p.ty.name()), &p.location),
+            _ => {
+                return scene_error(
+                    format!(
+                        "\"{} {name}\": the index of refraction must be a float or a spectrum",
+                        p.ty.name()
+                    ),
+                    &p.location,
+                )
+            }
         }
     }
     Ok(Eta::Constant(1.5))
 }
 
 impl Material {
-    pub fn create(entity: &Entity, textures: &NamedTextures, base_directory: &Path) -> Result<Material> {
-        let tp = TextureParams { params: &entity.params, color_space: entity.color_space, textures, base_directory };
+    pub fn create(
+        entity: &Entity,
+        textures: &NamedTextures,
+        base_directory: &Path,
+    ) -> Result<Material> {
+        let tp = TextureParams {
+            params: &entity.params,
+            color_space: entity.color_space,
+            textures,
+            base_directory,
+        };
         let p = &entity.params;
         let loc = &entity.location.0;
-        if p.find("displacement", &[pbrt_parser::ParamType::Float, pbrt_parser::ParamType::Texture])?.is_some() {
+        if p.find(
+            "displacement",
+            &[
+                pbrt_parser::ParamType::Float,
+                pbrt_parser::ParamType::Texture,
+            ],
+        )?
+        .is_some()
+        {
             return scene_error("material \"displacement\" is not supported yet", loc);
         }
-        if p.find("normalmap", &[pbrt_parser::ParamType::String])?.is_some() {
+        if p.find("normalmap", &[pbrt_parser::ParamType::String])?
+            .is_some()
+        {
             return scene_error("material \"normalmap\" is not supported yet", loc);
         }
         p.string("type", "")?;
@@ -129,27 +193,55 @@ impl Material {
         let m = match entity.kind.as_str() {
             "interface" | "" | "none" => Material::Interface,
             "diffuse" => Material::Diffuse {
-                reflectance: tp.spectrum_texture("reflectance", constant(0.5), SpectrumKind::Albedo)?.expect("default given"),
+                reflectance: tp
+                    .spectrum_texture("reflectance", constant(0.5), SpectrumKind::Albedo)?
+                    .expect("default given"),
             },
             "diffusetransmission" => Material::DiffuseTransmission {
-                reflectance: tp.spectrum_texture("reflectance", constant(0.25), SpectrumKind::Albedo)?.expect("default given"),
-                transmittance: tp.spectrum_texture("transmittance", constant(0.25), SpectrumKind::Albedo)?.expect("default given"),
+                reflectance: tp
+                    .spectrum_texture("reflectance", constant(0.25), SpectrumKind::Albedo)?
+                    .expect("default given"),
+                transmittance: tp
+                    .spectrum_texture("transmittance", constant(0.25), SpectrumKind::Albedo)?
+                    .expect("default given"),
                 scale: p.float("scale", 1.0)? as f32,
             },
             "conductor" => {
                 let reflectance = tp.spectrum_texture("reflectance", None, SpectrumKind::Albedo)?;
-                let eta = tp.spectrum_texture("eta", named_spectrum("metal-Cu-eta"), SpectrumKind::Unbounded)?;
-                let k = tp.spectrum_texture("k", named_spectrum("metal-Cu-k"), SpectrumKind::Unbounded)?;
+                let eta = tp.spectrum_texture(
+                    "eta",
+                    named_spectrum("metal-Cu-eta"),
+                    SpectrumKind::Unbounded,
+                )?;
+                let k = tp.spectrum_texture(
+                    "k",
+                    named_spectrum("metal-Cu-k"),
+                    SpectrumKind::Unbounded,
+                )?;
                 let (Some(eta), Some(k)) = (eta, k) else {
                     return scene_error("conductor: the default copper spectra are not available; give \"eta\" and \"k\" or \"reflectance\"", loc);
                 };
-                Material::Conductor { eta, k, reflectance, roughness: Roughness::read(&tp, "", 0.0)? }
+                Material::Conductor {
+                    eta,
+                    k,
+                    reflectance,
+                    roughness: Roughness::read(&tp, "", 0.0)?,
+                }
             }
-            "dielectric" => Material::Dielectric { eta: eta_param(&tp, "eta")?, roughness: Roughness::read(&tp, "", 0.0)? },
-            "thindielectric" => Material::ThinDielectric { eta: eta_param(&tp, "eta")? },
+            "dielectric" => Material::Dielectric {
+                eta: eta_param(&tp, "eta")?,
+                roughness: Roughness::read(&tp, "", 0.0)?,
+            },
+            "thindielectric" => Material::ThinDielectric {
+                eta: eta_param(&tp, "eta")?,
+            },
             "coateddiffuse" => Material::CoatedDiffuse {
-                reflectance: tp.spectrum_texture("reflectance", constant(0.5), SpectrumKind::Albedo)?.expect("default given"),
-                albedo: tp.spectrum_texture("albedo", constant(0.0), SpectrumKind::Albedo)?.expect("default given"),
+                reflectance: tp
+                    .spectrum_texture("reflectance", constant(0.5), SpectrumKind::Albedo)?
+                    .expect("default given"),
+                albedo: tp
+                    .spectrum_texture("albedo", constant(0.0), SpectrumKind::Albedo)?
+                    .expect("default given"),
                 roughness: Roughness::read(&tp, "", 0.0)?,
                 thickness: tp.float_texture("thickness", 0.01)?,
                 g: tp.float_texture("g", 0.0)?,
@@ -162,7 +254,11 @@ impl Material {
                 let reflectance = tp.spectrum_texture("reflectance", None, SpectrumKind::Albedo)?;
                 let mut eumelanin = tp.float_texture_opt("eumelanin")?;
                 let pheomelanin = tp.float_texture_opt("pheomelanin")?;
-                if sigma_a.is_none() && reflectance.is_none() && eumelanin.is_none() && pheomelanin.is_none() {
+                if sigma_a.is_none()
+                    && reflectance.is_none()
+                    && eumelanin.is_none()
+                    && pheomelanin.is_none()
+                {
                     eumelanin = Some(FloatTexture::Constant(1.3));
                 }
                 Material::Hair {
@@ -189,18 +285,32 @@ impl Material {
         let clamp01 = |s: SampledSpectrum| s.map(|v| v.clamp(0.0, 1.0));
         let bxdf = match self {
             Material::Interface => return None,
-            Material::Diffuse { reflectance } => BxDF::Diffuse(DiffuseBxDF::new(clamp01(reflectance.evaluate(&ctx, lambda)))),
-            Material::DiffuseTransmission { reflectance, transmittance, scale } => BxDF::DiffuseTransmission(DiffuseTransmissionBxDF::new(
+            Material::Diffuse { reflectance } => BxDF::Diffuse(DiffuseBxDF::new(clamp01(
+                reflectance.evaluate(&ctx, lambda),
+            ))),
+            Material::DiffuseTransmission {
+                reflectance,
+                transmittance,
+                scale,
+            } => BxDF::DiffuseTransmission(DiffuseTransmissionBxDF::new(
                 clamp01(reflectance.evaluate(&ctx, lambda) * *scale),
                 clamp01(transmittance.evaluate(&ctx, lambda) * *scale),
             )),
-            Material::Conductor { eta, k, reflectance, roughness } => {
+            Material::Conductor {
+                eta,
+                k,
+                reflectance,
+                roughness,
+            } => {
                 let distrib = roughness.distribution(&ctx);
                 let (etas, ks) = match reflectance {
                     // pbrt-v4: a reflectance r gives η = 1, k = 2√r / √(1 − r).
                     Some(r) => {
                         let r = r.evaluate(&ctx, lambda).map(|v| v.clamp(0.0, 0.9999));
-                        (SampledSpectrum::ONE, (r.sqrt() * 2.0) / (SampledSpectrum::ONE - r).sqrt())
+                        (
+                            SampledSpectrum::ONE,
+                            (r.sqrt() * 2.0) / (SampledSpectrum::ONE - r).sqrt(),
+                        )
                     }
                     None => (eta.evaluate(&ctx, lambda), k.evaluate(&ctx, lambda)),
                 };
@@ -210,8 +320,19 @@ impl Material {
                 let e = eval_eta(eta, lambda);
                 BxDF::Dielectric(DielectricBxDF::new(e, roughness.distribution(&ctx)))
             }
-            Material::ThinDielectric { eta } => BxDF::ThinDielectric(ThinDielectricBxDF::new(eval_eta(eta, lambda))),
-            Material::Hair { sigma_a, reflectance, eumelanin, pheomelanin, eta, beta_m, beta_n, alpha } => {
+            Material::ThinDielectric { eta } => {
+                BxDF::ThinDielectric(ThinDielectricBxDF::new(eval_eta(eta, lambda)))
+            }
+            Material::Hair {
+                sigma_a,
+                reflectance,
+                eumelanin,
+                pheomelanin,
+                eta,
+                beta_m,
+                beta_n,
+                alpha,
+            } => {
                 let bm = beta_m.evaluate(&ctx).clamp(0.01, 1.0);
                 let bn = beta_n.evaluate(&ctx).clamp(0.01, 1.0);
                 // Precedence as pbrt-v4: σa, then reflectance, then melanin.
@@ -220,17 +341,39 @@ impl Material {
                 } else if let Some(r) = reflectance {
                     HairBxDF::sigma_a_from_reflectance(clamp01(r.evaluate(&ctx, lambda)), bn)
                 } else {
-                    let ce = eumelanin.as_ref().map_or(0.0, |t| t.evaluate(&ctx)).max(0.0);
-                    let cp = pheomelanin.as_ref().map_or(0.0, |t| t.evaluate(&ctx)).max(0.0);
+                    let ce = eumelanin
+                        .as_ref()
+                        .map_or(0.0, |t| t.evaluate(&ctx))
+                        .max(0.0);
+                    let cp = pheomelanin
+                        .as_ref()
+                        .map_or(0.0, |t| t.evaluate(&ctx))
+                        .max(0.0);
                     let rgb = HairBxDF::sigma_a_from_concentration(ce, cp);
                     crate::spectrum::color_space::get(ColorSpaceName::Srgb)
                         .rgb_to_spectrum(glam::Vec3::from(rgb), SpectrumKind::Unbounded)
                         .sample(lambda)
                 };
                 let h = -1.0 + 2.0 * si.uv.y;
-                BxDF::Hair(HairBxDF::new(h, eta.evaluate(&ctx), sig_a, bm, bn, alpha.evaluate(&ctx)))
+                BxDF::Hair(HairBxDF::new(
+                    h,
+                    eta.evaluate(&ctx),
+                    sig_a,
+                    bm,
+                    bn,
+                    alpha.evaluate(&ctx),
+                ))
             }
-            Material::CoatedDiffuse { reflectance, albedo, roughness, thickness, g, eta, max_depth, n_samples } => {
+            Material::CoatedDiffuse {
+                reflectance,
+                albedo,
+                roughness,
+                thickness,
+                g,
+                eta,
+                max_depth,
+                n_samples,
+            } => {
                 let e = eval_eta(eta, lambda);
                 BxDF::CoatedDiffuse(CoatedDiffuseBxDF::new(
                     DielectricBxDF::new(e, roughness.distribution(&ctx)),

@@ -95,15 +95,27 @@ impl BuiltScene {
     /// Whether anything lies on `ray` before `t_max`.
     pub fn intersect_p(&self, ray: &Ray, t_max: f32) -> bool {
         self.bvh.any_hit(ray, t_max, |i, t_max| {
-            self.primitives[i].shape.intersect_p(&self.shapes, ray, t_max)
+            self.primitives[i]
+                .shape
+                .intersect_p(&self.shapes, ray, t_max)
         })
     }
 
     /// Whether the segment between a surface point and a light point is
     /// clear (both ends offset off their surfaces).
-    pub fn unoccluded(&self, from: &SurfaceInteraction, p_to: Vec3, p_to_error: Vec3, n_to: Vec3) -> bool {
+    pub fn unoccluded(
+        &self,
+        from: &SurfaceInteraction,
+        p_to: Vec3,
+        p_to_error: Vec3,
+        n_to: Vec3,
+    ) -> bool {
         let origin = offset_ray_origin(from.p, from.p_error, from.n, p_to - from.p);
-        let target = if n_to == Vec3::ZERO { p_to } else { offset_ray_origin(p_to, p_to_error, n_to, origin - p_to) };
+        let target = if n_to == Vec3::ZERO {
+            p_to
+        } else {
+            offset_ray_origin(p_to, p_to_error, n_to, origin - p_to)
+        };
         let d = target - origin;
         !self.intersect_p(&Ray::new(origin, d, from.time), 1.0 - 1e-4)
     }
@@ -115,18 +127,26 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
     let base = &scene.base_directory;
 
     if let Some(m) = scene.media.first() {
-        return scene_error("participating media are not supported yet", &m.entity.location.0);
+        return scene_error(
+            "participating media are not supported yet",
+            &m.entity.location.0,
+        );
     }
     if let Some(i) = scene.instances.first() {
         return scene_error("object instancing is not supported yet", &i.location.0);
     }
     if scene.camera.camera_from_world.is_animated() {
-        return scene_error("an animated camera (motion blur) is not supported yet", &scene.camera.entity.location.0);
+        return scene_error(
+            "an animated camera (motion blur) is not supported yet",
+            &scene.camera.entity.location.0,
+        );
     }
 
     // Camera exposure time, film, camera.
     let cam_params = &scene.camera.entity.params;
-    let exposure = (cam_params.float("shutterclose", 1.0)? - cam_params.float("shutteropen", 0.0)?).abs() as f32;
+    let exposure = (cam_params.float("shutterclose", 1.0)?
+        - cam_params.float("shutteropen", 0.0)?)
+    .abs() as f32;
     let mut film = RgbFilm::create(&scene.film, exposure, overrides.outfile.clone(), base)?;
     if overrides.quick {
         film.full_resolution = (film.full_resolution / 4).max(IVec2::ONE);
@@ -143,7 +163,11 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
     let render_from_world = camera.transform().render_from_world;
 
     let seed = overrides.seed.unwrap_or(scene.options.seed);
-    let spp = if overrides.quick { Some(overrides.spp.unwrap_or(16).div_ceil(16).max(1)) } else { overrides.spp };
+    let spp = if overrides.quick {
+        Some(overrides.spp.unwrap_or(16).div_ceil(16).max(1))
+    } else {
+        overrides.spp
+    };
     let sampler = Sampler::create(&scene.sampler, seed, film.full_resolution, spp)?;
     let filter = Filter::create(&scene.filter)?;
     let integrator = integrator_settings(scene)?;
@@ -153,13 +177,21 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
     for t in &scene.textures {
         match t.value {
             TextureValue::Float => {
-                if let Some((Some(f), _)) = create_texture(&t.entity, t.value, &textures, base, SpectrumKind::Albedo)? {
+                if let Some((Some(f), _)) =
+                    create_texture(&t.entity, t.value, &textures, base, SpectrumKind::Albedo)?
+                {
                     textures.float.insert(t.name.clone(), f);
                 }
             }
             TextureValue::Spectrum => {
-                for (key, kind) in [(0u8, SpectrumKind::Albedo), (1, SpectrumKind::Unbounded), (2, SpectrumKind::Illuminant)] {
-                    if let Some((_, Some(s))) = create_texture(&t.entity, t.value, &textures, base, kind)? {
+                for (key, kind) in [
+                    (0u8, SpectrumKind::Albedo),
+                    (1, SpectrumKind::Unbounded),
+                    (2, SpectrumKind::Illuminant),
+                ] {
+                    if let Some((_, Some(s))) =
+                        create_texture(&t.entity, t.value, &textures, base, kind)?
+                    {
                         textures.spectrum.insert((t.name.clone(), key), s);
                     }
                 }
@@ -196,10 +228,19 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
             MaterialRef::Anonymous(i) => *i as u32,
             MaterialRef::Named(name) => match named_index.get(name.as_str()) {
                 Some(&i) => i,
-                None => return scene_error(format!("named material \"{name}\" is not defined"), loc),
+                None => {
+                    return scene_error(format!("named material \"{name}\" is not defined"), loc)
+                }
             },
         };
-        let created = create_shapes(shape, &render_from_object, shape.reverse_orientation, base, &mut shapes, &mut warnings)?;
+        let created = create_shapes(
+            shape,
+            &render_from_object,
+            shape.reverse_orientation,
+            base,
+            &mut shapes,
+            &mut warnings,
+        )?;
         let area = match shape.area_light {
             Some(a) if matches!(materials[material as usize], Material::Interface) => {
                 warnings.push(Warning {
@@ -221,7 +262,11 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
                 }
                 None => None,
             };
-            primitives.push(Primitive { shape: created_shape, material, area_light });
+            primitives.push(Primitive {
+                shape: created_shape,
+                material,
+                area_light,
+            });
         }
     }
     for light in &scene.lights {
@@ -231,7 +276,10 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
     // The BVH, and primitives in its order.
     let bounds: Vec<Bounds3> = primitives.iter().map(|p| p.shape.bounds(&shapes)).collect();
     let (bvh, order) = Bvh::build(&bounds);
-    let primitives: Vec<Primitive> = order.iter().map(|&i| primitives[i as usize].clone()).collect();
+    let primitives: Vec<Primitive> = order
+        .iter()
+        .map(|&i| primitives[i as usize].clone())
+        .collect();
     let (center, radius) = bvh.bounds().bounding_sphere();
     for l in &mut lights {
         l.preprocess(center, radius);
@@ -242,7 +290,12 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
         .filter(|(_, l)| l.kind() == lights::LightKind::Infinite)
         .map(|(i, _)| i)
         .collect();
-    let light_sampler = match scene.integrator.params.string("lightsampler", "bvh")?.as_str() {
+    let light_sampler = match scene
+        .integrator
+        .params
+        .string("lightsampler", "bvh")?
+        .as_str()
+    {
         "uniform" => LightSampler::uniform(lights.len()),
         "power" | "bvh" => LightSampler::power(&lights, &shapes),
         other => {
@@ -284,6 +337,11 @@ fn integrator_settings(scene: &SceneDescription) -> Result<IntegratorSettings> {
     let max_depth = e.params.int("maxdepth", 5)?;
     let regularize = e.params.bool("regularize", false)?;
     e.params.string("lightsampler", "bvh")?;
-    e.params.report_unused(|| format!("integrator \"{}\"", e.kind))?;
-    Ok(IntegratorSettings { kind, max_depth, regularize })
+    e.params
+        .report_unused(|| format!("integrator \"{}\"", e.kind))?;
+    Ok(IntegratorSettings {
+        kind,
+        max_depth,
+        regularize,
+    })
 }

@@ -4,7 +4,9 @@ use super::description::ColorSpaceName;
 use super::ParamSet;
 use crate::error::{scene_error, Result};
 use crate::spectrum::color_space::SpectrumKind;
-use crate::spectrum::{named_spectrum, read_spectrum_file, BlackbodySpectrum, PiecewiseLinear, Spectrum};
+use crate::spectrum::{
+    named_spectrum, read_spectrum_file, BlackbodySpectrum, PiecewiseLinear, Spectrum,
+};
 use glam::Vec3;
 use pbrt_parser::ParamType;
 use std::path::Path;
@@ -19,7 +21,11 @@ pub fn spectrum_param(
     color_space: ColorSpaceName,
     base_directory: &Path,
 ) -> Result<Option<Spectrum>> {
-    let Some(p) = params.find(name, &[ParamType::Rgb, ParamType::Blackbody, ParamType::Spectrum])? else {
+    let Some(p) = params.find(
+        name,
+        &[ParamType::Rgb, ParamType::Blackbody, ParamType::Spectrum],
+    )?
+    else {
         return Ok(None);
     };
     let loc = &p.location;
@@ -27,7 +33,10 @@ pub fn spectrum_param(
         ParamType::Rgb => {
             let v = p.numbers();
             if v.len() != 3 {
-                return scene_error(format!("\"rgb {name}\": expected 3 values, found {}", v.len()), loc);
+                return scene_error(
+                    format!("\"rgb {name}\": expected 3 values, found {}", v.len()),
+                    loc,
+                );
             }
             let rgb = Vec3::new(v[0] as f32, v[1] as f32, v[2] as f32);
             if rgb.min_element() < 0.0 {
@@ -35,15 +44,22 @@ pub fn spectrum_param(
             }
             if kind == SpectrumKind::Albedo && rgb.max_element() > 1.0 {
                 return scene_error(
-                    format!("\"rgb {name}\" is used as an albedo (reflectance) and has a component > 1"),
+                    format!(
+                        "\"rgb {name}\" is used as an albedo (reflectance) and has a component > 1"
+                    ),
                     loc,
                 );
             }
-            Ok(Some(crate::spectrum::color_space::get(color_space).rgb_to_spectrum(rgb, kind)))
+            Ok(Some(
+                crate::spectrum::color_space::get(color_space).rgb_to_spectrum(rgb, kind),
+            ))
         }
         ParamType::Blackbody => match p.numbers() {
             [t] if *t > 0.0 => Ok(Some(Spectrum::Blackbody(BlackbodySpectrum::new(*t as f32)))),
-            _ => scene_error(format!("\"blackbody {name}\": expected one positive temperature in kelvin"), loc),
+            _ => scene_error(
+                format!("\"blackbody {name}\": expected one positive temperature in kelvin"),
+                loc,
+            ),
         },
         _ => {
             if let [s] = p.strings() {

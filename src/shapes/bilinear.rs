@@ -26,13 +26,18 @@
 //! inverting the interpolated texture coordinates).
 
 use super::mesh::BilinearPatchMesh;
-use super::spherical::{invert_spherical_rectangle_sample, sample_spherical_rectangle, spherical_quad_area};
 use super::numeric::difference_of_products;
+use super::spherical::{
+    invert_spherical_rectangle_sample, sample_spherical_rectangle, spherical_quad_area,
+};
 use super::surface::{
-    face_forward, set_shading_geometry, surface_interaction, weingarten_normal_derivatives, SurfacePoint,
+    face_forward, set_shading_geometry, surface_interaction, weingarten_normal_derivatives,
+    SurfacePoint,
 };
 use super::warps::{bilinear_pdf, sample_bilinear};
-use super::{area_sample_to_solid_angle, ShapeIntersection, ShapeSample, ShapeSampleContext, ShapeStorage};
+use super::{
+    area_sample_to_solid_angle, ShapeIntersection, ShapeSample, ShapeSampleContext, ShapeStorage,
+};
 use crate::interaction::SurfaceInteraction;
 use crate::math::ray::gamma;
 use crate::math::{Bounds3, Ray};
@@ -156,7 +161,8 @@ fn rotate_from_to(from: Vec3, to: Vec3, x: Vec3) -> Vec3 {
     let u = reflection - from;
     let v = reflection - to;
     let (uu, vv, uv) = (u.dot(u), v.dot(v), u.dot(v));
-    x - (2.0 / uu) * u.dot(x) * u - (2.0 / vv) * v.dot(x) * v + (4.0 * uv / (uu * vv)) * u.dot(x) * v
+    x - (2.0 / uu) * u.dot(x) * u - (2.0 / vv) * v.dot(x) * v
+        + (4.0 * uv / (uu * vv)) * u.dot(x) * v
 }
 
 impl BilinearPatch {
@@ -217,10 +223,18 @@ impl BilinearPatch {
     }
 
     pub fn face_index(&self, mesh: &BilinearPatchMesh) -> i32 {
-        mesh.face_indices.get(self.index as usize).copied().unwrap_or(0)
+        mesh.face_indices
+            .get(self.index as usize)
+            .copied()
+            .unwrap_or(0)
     }
 
-    fn basic_intersect(&self, mesh: &BilinearPatchMesh, ray: &Ray, t_max: f32) -> Option<BilinearHit> {
+    fn basic_intersect(
+        &self,
+        mesh: &BilinearPatchMesh,
+        ray: &Ray,
+        t_max: f32,
+    ) -> Option<BilinearHit> {
         let [p00, p10, p01, p11] = self.positions(mesh);
         intersect_bilinear_patch(ray, t_max, p00, p10, p01, p11)
     }
@@ -229,7 +243,12 @@ impl BilinearPatch {
         self.basic_intersect(mesh, ray, t_max).is_some()
     }
 
-    pub fn intersect(&self, mesh: &BilinearPatchMesh, ray: &Ray, t_max: f32) -> Option<ShapeIntersection> {
+    pub fn intersect(
+        &self,
+        mesh: &BilinearPatchMesh,
+        ray: &Ray,
+        t_max: f32,
+    ) -> Option<ShapeIntersection> {
         let hit = self.basic_intersect(mesh, ray, t_max)?;
         let mut interaction = self.interaction(mesh, hit.uv, ray.time, -ray.direction);
         interaction.t = hit.t;
@@ -241,7 +260,13 @@ impl BilinearPatch {
 
     /// The surface interaction at parametric `uv` (pbrt-v4's
     /// `BilinearPatch::InteractionFromIntersection`).
-    pub fn interaction(&self, mesh: &BilinearPatchMesh, uv: Vec2, time: f32, wo: Vec3) -> SurfaceInteraction {
+    pub fn interaction(
+        &self,
+        mesh: &BilinearPatchMesh,
+        uv: Vec2,
+        time: f32,
+        wo: Vec3,
+    ) -> SurfaceInteraction {
         let vertices = mesh.patch(self.index);
         let [p00, p10, p01, p11] = self.positions(mesh);
         let p = lerp3(uv.x, lerp3(uv.y, p00, p01), lerp3(uv.y, p10, p11));
@@ -273,7 +298,8 @@ impl BilinearPatch {
         }
 
         let d2p_duv = (p00 - p01) + (p11 - p10);
-        let (dndu, dndv) = weingarten_normal_derivatives(dpdu, dpdv, Vec3::ZERO, d2p_duv, Vec3::ZERO);
+        let (dndu, dndv) =
+            weingarten_normal_derivatives(dpdu, dpdv, Vec3::ZERO, d2p_duv, Vec3::ZERO);
         let dnds = dndu * duds + dndv * dvds;
         let dndt = dndu * dudt + dndv * dvdt;
 
@@ -305,7 +331,15 @@ impl BilinearPatch {
                 let n = interaction.n.normalize_or_zero();
                 let shading_dpdu = rotate_from_to(n, ns, dpdu);
                 let shading_dpdv = rotate_from_to(n, ns, dpdv);
-                set_shading_geometry(&mut interaction, ns, shading_dpdu, shading_dpdv, dnds, dndt, true);
+                set_shading_geometry(
+                    &mut interaction,
+                    ns,
+                    shading_dpdu,
+                    shading_dpdv,
+                    dnds,
+                    dndt,
+                    true,
+                );
             }
         }
         interaction
@@ -391,12 +425,17 @@ impl BilinearPatch {
 
     /// Unit vectors from `p` to p00, p10, p01, p11.
     fn corner_directions(&self, mesh: &BilinearPatchMesh, p: Vec3) -> [Vec3; 4] {
-        self.positions(mesh).map(|corner| (corner - p).normalize_or_zero())
+        self.positions(mesh)
+            .map(|corner| (corner - p).normalize_or_zero())
     }
 
     /// Whether `ctx` sees the patch as a rectangle large enough for
     /// spherical rectangle sampling.
-    fn samples_by_solid_angle(&self, mesh: &BilinearPatchMesh, ctx: &ShapeSampleContext) -> Option<f32> {
+    fn samples_by_solid_angle(
+        &self,
+        mesh: &BilinearPatchMesh,
+        ctx: &ShapeSampleContext,
+    ) -> Option<f32> {
         if !self.is_rectangle(mesh) {
             return None;
         }
@@ -410,7 +449,12 @@ impl BilinearPatch {
             .map(|v| v.dot(ctx.ns).abs().max(0.01))
     }
 
-    pub fn sample_from(&self, mesh: &BilinearPatchMesh, ctx: &ShapeSampleContext, u: Vec2) -> Option<ShapeSample> {
+    pub fn sample_from(
+        &self,
+        mesh: &BilinearPatchMesh,
+        ctx: &ShapeSampleContext,
+        u: Vec2,
+    ) -> Option<ShapeSample> {
         if self.samples_by_solid_angle(mesh, ctx).is_none() {
             return area_sample_to_solid_angle(self.sample_area(mesh, u)?, ctx);
         }
@@ -471,7 +515,13 @@ mod tests {
     use crate::shapes::Shape;
     use glam::DVec3;
 
-    fn patch_mesh(p: [Vec3; 4], transform: &Transform, reverse: bool, uvs: Vec<Vec2>, normals: Vec<Vec3>) -> BilinearPatchMesh {
+    fn patch_mesh(
+        p: [Vec3; 4],
+        transform: &Transform,
+        reverse: bool,
+        uvs: Vec<Vec2>,
+        normals: Vec<Vec3>,
+    ) -> BilinearPatchMesh {
         BilinearPatchMesh::new(
             transform,
             reverse,
@@ -509,7 +559,13 @@ mod tests {
 
     #[test]
     fn hits_on_a_rectangle_match_the_analytic_answers() {
-        let mesh = patch_mesh(SQUARE, &Transform::translate(DVec3::new(0.0, 0.0, 1.0)), false, vec![], vec![]);
+        let mesh = patch_mesh(
+            SQUARE,
+            &Transform::translate(DVec3::new(0.0, 0.0, 1.0)),
+            false,
+            vec![],
+            vec![],
+        );
         let patch = BilinearPatch::new(0, 0);
         assert!(patch.is_rectangle(&mesh));
         assert_eq!(patch.area(&mesh), 2.0);
@@ -522,11 +578,18 @@ mod tests {
         assert!((si.n - Vec3::Z).length() < 1e-6);
         assert!((si.dpdu - Vec3::new(2.0, 0.0, 0.0)).length() < 1e-6);
         assert!((si.dpdv - Vec3::Y).length() < 1e-6);
-        assert!(!patch.intersect_p(&mesh, &Ray::new(Vec3::new(2.5, 0.25, 4.0), -Vec3::Z, 0.0), f32::INFINITY));
+        assert!(!patch.intersect_p(
+            &mesh,
+            &Ray::new(Vec3::new(2.5, 0.25, 4.0), -Vec3::Z, 0.0),
+            f32::INFINITY
+        ));
         assert!(!patch.intersect_p(&mesh, &ray, 2.9));
         // Reverse orientation.
         let reversed = patch_mesh(SQUARE, &Transform::IDENTITY, true, vec![], vec![]);
-        let si = patch.intersect(&reversed, &ray, f32::INFINITY).unwrap().interaction;
+        let si = patch
+            .intersect(&reversed, &ray, f32::INFINITY)
+            .unwrap()
+            .interaction;
         assert!((si.n + Vec3::Z).length() < 1e-6);
     }
 
@@ -538,16 +601,28 @@ mod tests {
         let mut rng = TestRng::new(41);
         for _ in 0..2000 {
             let uv = rng.uniform2();
-            let target = lerp3(uv.x, lerp3(uv.y, SADDLE[0], SADDLE[2]), lerp3(uv.y, SADDLE[1], SADDLE[3]));
+            let target = lerp3(
+                uv.x,
+                lerp3(uv.y, SADDLE[0], SADDLE[2]),
+                lerp3(uv.y, SADDLE[1], SADDLE[3]),
+            );
             let origin = target + rng.direction_around(Vec3::Z) * rng.range(0.5, 5.0);
-            let hit = patch.intersect(&mesh, &Ray::new(origin, target - origin, 0.0), f32::INFINITY);
+            let hit = patch.intersect(
+                &mesh,
+                &Ray::new(origin, target - origin, 0.0),
+                f32::INFINITY,
+            );
             let Some(hit) = hit else {
                 panic!("missed the saddle at {uv}");
             };
             // The first hit may be elsewhere on the curved patch, but it lies
             // on the patch at its (u,v).
             let si = hit.interaction;
-            let expected = lerp3(si.uv.x, lerp3(si.uv.y, SADDLE[0], SADDLE[2]), lerp3(si.uv.y, SADDLE[1], SADDLE[3]));
+            let expected = lerp3(
+                si.uv.x,
+                lerp3(si.uv.y, SADDLE[0], SADDLE[2]),
+                lerp3(si.uv.y, SADDLE[1], SADDLE[3]),
+            );
             assert!((si.p - expected).length() < 1e-4);
             assert!((origin + hit.t_hit * (target - origin) - si.p).length() < 1e-4);
             if hit.t_hit > 0.9999 {
@@ -559,12 +634,21 @@ mod tests {
 
     #[test]
     fn texture_coordinates_and_shading_normals() {
-        let uvs = vec![Vec2::new(0.0, 0.0), Vec2::new(4.0, 0.0), Vec2::new(0.0, 2.0), Vec2::new(4.0, 2.0)];
+        let uvs = vec![
+            Vec2::new(0.0, 0.0),
+            Vec2::new(4.0, 0.0),
+            Vec2::new(0.0, 2.0),
+            Vec2::new(4.0, 2.0),
+        ];
         let tilt = Vec3::new(0.3, 0.0, 1.0).normalize();
         let mesh = patch_mesh(SQUARE, &Transform::IDENTITY, false, uvs, vec![tilt; 4]);
         let patch = BilinearPatch::new(0, 0);
         let si = patch
-            .intersect(&mesh, &Ray::new(Vec3::new(1.0, 0.5, 1.0), -Vec3::Z, 0.0), f32::INFINITY)
+            .intersect(
+                &mesh,
+                &Ray::new(Vec3::new(1.0, 0.5, 1.0), -Vec3::Z, 0.0),
+                f32::INFINITY,
+            )
             .unwrap()
             .interaction;
         assert!((si.uv - Vec2::new(2.0, 1.0)).length() < 1e-5);
@@ -574,9 +658,19 @@ mod tests {
         assert!((si.shading.n - tilt).length() < 1e-5);
         assert!(si.shading.dpdu.dot(tilt).abs() < 1e-5 && si.shading.dpdv.dot(tilt).abs() < 1e-5);
         // Normals pointing down turn the geometric normal down.
-        let down = patch_mesh(SQUARE, &Transform::IDENTITY, false, vec![], vec![-Vec3::Z; 4]);
+        let down = patch_mesh(
+            SQUARE,
+            &Transform::IDENTITY,
+            false,
+            vec![],
+            vec![-Vec3::Z; 4],
+        );
         let si = patch
-            .intersect(&down, &Ray::new(Vec3::new(1.0, 0.5, 1.0), -Vec3::Z, 0.0), f32::INFINITY)
+            .intersect(
+                &down,
+                &Ray::new(Vec3::new(1.0, 0.5, 1.0), -Vec3::Z, 0.0),
+                f32::INFINITY,
+            )
             .unwrap()
             .interaction;
         assert!((si.n + Vec3::Z).length() < 1e-6);
@@ -588,7 +682,11 @@ mod tests {
         for case in 0..10_000 {
             let scale = if case % 2 == 0 { 1.0 } else { 1e4 };
             let center = rng.direction() * scale;
-            let size = if scale == 1.0 { rng.range(0.01, 5.0) } else { rng.range(1.0, 100.0) };
+            let size = if scale == 1.0 {
+                rng.range(0.01, 5.0)
+            } else {
+                rng.range(1.0, 100.0)
+            };
             let (e1, e2) = (size * rng.direction(), size * rng.direction());
             let p = [center, center + e1, center + e2, center + e1 + e2];
             let mesh = patch_mesh(p, &Transform::IDENTITY, false, vec![], vec![]);
@@ -596,13 +694,20 @@ mod tests {
             let uv = rng.uniform2();
             let target = center + uv.x * e1 + uv.y * e2;
             let origin = target + rng.direction() * size * rng.range(0.1, 10.0);
-            let Some(hit) = patch.intersect(&mesh, &Ray::new(origin, target - origin, 0.0), f32::INFINITY) else {
+            let Some(hit) = patch.intersect(
+                &mesh,
+                &Ray::new(origin, target - origin, 0.0),
+                f32::INFINITY,
+            ) else {
                 continue;
             };
             let si = hit.interaction;
             for _ in 0..2 {
                 let w = rng.direction();
-                assert!(!patch.intersect_p(&mesh, &si.spawn_ray(w), f32::INFINITY), "case {case}: re-hit");
+                assert!(
+                    !patch.intersect_p(&mesh, &si.spawn_ray(w), f32::INFINITY),
+                    "case {case}: re-hit"
+                );
             }
         }
     }
@@ -633,9 +738,15 @@ mod tests {
             }
         }
         let (mean, error) = mean_and_error(&inverse);
-        assert!((mean - area).abs() < 4.0 * error + 1e-4, "{mean} ± {error} vs {area}");
+        assert!(
+            (mean - area).abs() < 4.0 * error + 1e-4,
+            "{mean} ± {error} vs {area}"
+        );
         let (mean_z, error_z) = mean_and_error(&z);
-        assert!((mean_z - z_integral).abs() < 4.0 * error_z + 1e-4, "{mean_z} vs {z_integral}");
+        assert!(
+            (mean_z - z_integral).abs() < 4.0 * error_z + 1e-4,
+            "{mean_z} vs {z_integral}"
+        );
         // pbrt's 3×3 area estimate is close to the true area.
         assert!((patch.area(&mesh) as f64 - area).abs() < 0.01 * area);
     }
@@ -648,7 +759,13 @@ mod tests {
             Vec3::new(-1.0, 0.5, 2.5),
             Vec3::new(1.0, 0.5, 2.5),
         ];
-        let storage = storage_with(patch_mesh(rectangle, &Transform::IDENTITY, false, vec![], vec![]));
+        let storage = storage_with(patch_mesh(
+            rectangle,
+            &Transform::IDENTITY,
+            false,
+            vec![],
+            vec![],
+        ));
         let shape = Shape::BilinearPatch(BilinearPatch::new(0, 0));
         let origin = Vec3::new(0.2, 0.1, 0.0);
         let [v00, v10, v01, v11] = rectangle.map(|p| (p - origin).normalize());
@@ -658,12 +775,30 @@ mod tests {
             + crate::shapes::spherical::spherical_triangle_area(v00, v11, v01);
         assert!((expected - two_triangles).abs() < 1e-4 * expected);
         let tilted = Vec3::new(0.0, 0.6, 0.8);
-        let surface = ShapeSampleContext { p: origin, p_error: Vec3::ZERO, n: tilted, ns: tilted, time: 0.0 };
+        let surface = ShapeSampleContext {
+            p: origin,
+            p_error: Vec3::ZERO,
+            n: tilted,
+            ns: tilted,
+            time: 0.0,
+        };
         check_solid_angle_sampling(&shape, &storage, &surface, expected, 51);
-        check_solid_angle_sampling(&shape, &storage, &ShapeSampleContext::in_medium(origin, 0.0), expected, 52);
+        check_solid_angle_sampling(
+            &shape,
+            &storage,
+            &ShapeSampleContext::in_medium(origin, 0.0),
+            expected,
+            52,
+        );
 
         // A saddle is sampled by area; from far above it is seen once.
-        let saddle = storage_with(patch_mesh(SADDLE, &Transform::IDENTITY, false, vec![], vec![]));
+        let saddle = storage_with(patch_mesh(
+            SADDLE,
+            &Transform::IDENTITY,
+            false,
+            vec![],
+            vec![],
+        ));
         let above = ShapeSampleContext::in_medium(Vec3::new(0.5, 0.5, 3.0), 0.0);
         // Solid angle ∫ |cos θ| / d² dA by a fine midpoint rule (a height
         // field seen from above: every direction hits it at most once).
@@ -676,7 +811,8 @@ mod tests {
                 let (p, dpdu, dpdv) = saddle_patch.jacobian(&saddle.bilinear_meshes[0], uv);
                 let d = p - above.p;
                 let cross = dpdu.cross(dpdv);
-                saddle_solid_angle += (cross.dot(d).abs() / d.length().powi(3)) as f64 / (n * n) as f64;
+                saddle_solid_angle +=
+                    (cross.dot(d).abs() / d.length().powi(3)) as f64 / (n * n) as f64;
             }
         }
         check_solid_angle_sampling(&shape, &saddle, &above, saddle_solid_angle as f32, 54);

@@ -73,7 +73,11 @@ fn lerp3(t: f32, a: Vec3, b: Vec3) -> Vec3 {
 
 /// Point and derivative of a cubic Bézier at u (de Casteljau).
 pub fn evaluate_bezier(cp: &[Vec3; 4], u: f32) -> (Vec3, Vec3) {
-    let a = [lerp3(u, cp[0], cp[1]), lerp3(u, cp[1], cp[2]), lerp3(u, cp[2], cp[3])];
+    let a = [
+        lerp3(u, cp[0], cp[1]),
+        lerp3(u, cp[1], cp[2]),
+        lerp3(u, cp[2], cp[3]),
+    ];
     let b = [lerp3(u, a[0], a[1]), lerp3(u, a[1], a[2])];
     let deriv = if (b[1] - b[0]).length_squared() > 0.0 {
         3.0 * (b[1] - b[0])
@@ -87,11 +91,20 @@ pub fn evaluate_bezier(cp: &[Vec3; 4], u: f32) -> (Vec3, Vec3) {
 /// The control points of the sub-curve over [u0, u1] (blossoming).
 pub fn blossom_piece(cp: &[Vec3; 4], u0: f32, u1: f32) -> [Vec3; 4] {
     let blossom = |u: [f32; 3]| {
-        let a = [lerp3(u[0], cp[0], cp[1]), lerp3(u[0], cp[1], cp[2]), lerp3(u[0], cp[2], cp[3])];
+        let a = [
+            lerp3(u[0], cp[0], cp[1]),
+            lerp3(u[0], cp[1], cp[2]),
+            lerp3(u[0], cp[2], cp[3]),
+        ];
         let b = [lerp3(u[1], a[0], a[1]), lerp3(u[1], a[1], a[2])];
         lerp3(u[2], b[0], b[1])
     };
-    [blossom([u0, u0, u0]), blossom([u0, u0, u1]), blossom([u0, u1, u1]), blossom([u1, u1, u1])]
+    [
+        blossom([u0, u0, u0]),
+        blossom([u0, u0, u1]),
+        blossom([u0, u1, u1]),
+        blossom([u1, u1, u1]),
+    ]
 }
 
 impl CurveSegment {
@@ -115,7 +128,10 @@ impl CurvePiece {
     pub fn bounds(&self, segment: &CurveSegment) -> Bounds3 {
         let w = segment.width_at(self.u0).max(segment.width_at(self.u1)) * 0.5;
         let b = Bounds3::from_points(self.cp);
-        Bounds3 { min: b.min - Vec3::splat(w), max: b.max + Vec3::splat(w) }
+        Bounds3 {
+            min: b.min - Vec3::splat(w),
+            max: b.max + Vec3::splat(w),
+        }
     }
 
     /// The hit of `ray` with this piece before `t_max`: (t, u, v, hit
@@ -148,7 +164,8 @@ impl CurvePiece {
             let wc = w.clamp(-0.5, 1.5);
             let (p, d1) = evaluate_bezier(&c, wc);
             // Second derivative of the cubic.
-            let d2 = 6.0 * ((c[2] - 2.0 * c[1] + c[0]) * (1.0 - wc) + (c[3] - 2.0 * c[2] + c[1]) * wc);
+            let d2 =
+                6.0 * ((c[2] - 2.0 * c[1] + c[0]) * (1.0 - wc) + (c[3] - 2.0 * c[2] + c[1]) * wc);
             let g = p.x * d1.x + p.y * d1.y;
             let dg = d1.x * d1.x + d1.y * d1.y + p.x * d2.x + p.y * d2.y;
             if dg <= 0.0 {
@@ -181,8 +198,18 @@ impl CurvePiece {
         }
         let dist = dist2.sqrt();
         let edge = dpcdw.x * -pc.y + pc.x * dpcdw.y;
-        let v = if edge > 0.0 { 0.5 + dist / hit_width } else { 0.5 - dist / hit_width };
-        Some(CurveHit { t: pc.z / ray_length, u, v, hit_width, n_hit })
+        let v = if edge > 0.0 {
+            0.5 + dist / hit_width
+        } else {
+            0.5 - dist / hit_width
+        };
+        Some(CurveHit {
+            t: pc.z / ray_length,
+            u,
+            v,
+            hit_width,
+            n_hit,
+        })
     }
 }
 
@@ -209,8 +236,9 @@ impl CurveHit {
                 let d = ray.direction.normalize();
                 let (ex, ey) = crate::math::frame::coordinate_system(d);
                 let tangent_plane = Vec3::new(dpdu.dot(ex), dpdu.dot(ey), dpdu.dot(d));
-                let mut dpdv_plane =
-                    Vec3::new(-tangent_plane.y, tangent_plane.x, 0.0).normalize_or_zero() * self.hit_width;
+                let mut dpdv_plane = Vec3::new(-tangent_plane.y, tangent_plane.x, 0.0)
+                    .normalize_or_zero()
+                    * self.hit_width;
                 if segment.kind == CurveType::Cylinder {
                     // Turn across the width so the normal sweeps a half
                     // cylinder: θ from −90° to 90°, rotating by −θ about the
@@ -241,7 +269,13 @@ impl CurveHit {
             curve_h: -1.0 + 2.0 * self.v,
             ..Default::default()
         };
-        si.shading = crate::interaction::Shading { n, dpdu, dpdv, dndu: Vec3::ZERO, dndv: Vec3::ZERO };
+        si.shading = crate::interaction::Shading {
+            n,
+            dpdu,
+            dpdv,
+            dndu: Vec3::ZERO,
+            dndv: Vec3::ZERO,
+        };
         si
     }
 }
@@ -263,7 +297,12 @@ pub fn create_curves(
         "flat" => CurveType::Flat,
         "cylinder" => CurveType::Cylinder,
         "ribbon" => CurveType::Ribbon,
-        other => return scene_error(format!("curve type \"{other}\" unknown (expected flat, cylinder or ribbon)"), loc),
+        other => {
+            return scene_error(
+                format!("curve type \"{other}\" unknown (expected flat, cylinder or ribbon)"),
+                loc,
+            )
+        }
     };
     let width = p.float("width", 1.0)?;
     let width0 = p.float("width0", width)? as f32;
@@ -272,7 +311,10 @@ pub fn create_curves(
     let normals = p.normals("N")?;
     p.report_unused(|| format!("shape \"{}\"", shape.entity.kind))?;
     if degree != 2 && degree != 3 {
-        return scene_error(format!("curve \"degree\" must be 2 or 3, not {degree}"), loc);
+        return scene_error(
+            format!("curve \"degree\" must be 2 or 3, not {degree}"),
+            loc,
+        );
     }
     let degree = degree as usize;
     let n = cps.len();
@@ -294,7 +336,12 @@ pub fn create_curves(
             }
             n - degree
         }
-        other => return scene_error(format!("curve basis \"{other}\" unknown (expected bezier or bspline)"), loc),
+        other => {
+            return scene_error(
+                format!("curve basis \"{other}\" unknown (expected bezier or bspline)"),
+                loc,
+            )
+        }
     };
     if kind == CurveType::Ribbon && normals.len() != segments_count + 1 {
         return scene_error(
@@ -317,7 +364,12 @@ pub fn create_curves(
     let lerp = |t: f64, a: DVec3, b: DVec3| a + (b - a) * t;
     for seg in 0..segments_count {
         let bez: [DVec3; 4] = match (basis.as_str(), degree) {
-            ("bezier", 3) => [cps[3 * seg], cps[3 * seg + 1], cps[3 * seg + 2], cps[3 * seg + 3]],
+            ("bezier", 3) => [
+                cps[3 * seg],
+                cps[3 * seg + 1],
+                cps[3 * seg + 2],
+                cps[3 * seg + 3],
+            ],
             ("bezier", _) => {
                 let (p0, p1, p2) = (cps[2 * seg], cps[2 * seg + 1], cps[2 * seg + 2]);
                 [p0, lerp(2.0 / 3.0, p0, p1), lerp(1.0 / 3.0, p1, p2), p2]
@@ -334,7 +386,12 @@ pub fn create_curves(
                 let (p01, p12, p23) = (cps[seg], cps[seg + 1], cps[seg + 2]);
                 let p11 = lerp(0.5, p01, p12);
                 let p22 = lerp(0.5, p12, p23);
-                [p11, lerp(2.0 / 3.0, p11, p12), lerp(1.0 / 3.0, p12, p22), p22]
+                [
+                    p11,
+                    lerp(2.0 / 3.0, p11, p12),
+                    lerp(1.0 / 3.0, p12, p22),
+                    p22,
+                ]
             }
         };
         let cp = bez.map(to_render);
@@ -345,7 +402,13 @@ pub fn create_curves(
             (width0 + (width1 - width0) * t1) * width_scale,
         ];
         let (normals_render, angle) = if kind == CurveType::Ribbon {
-            let nt = |v: DVec3| m.inverse.transpose().transform_vector3(v).as_vec3().normalize_or_zero();
+            let nt = |v: DVec3| {
+                m.inverse
+                    .transpose()
+                    .transform_vector3(v)
+                    .as_vec3()
+                    .normalize_or_zero()
+            };
             let (n0, n1) = (nt(normals[seg]), nt(normals[seg + 1]));
             (
                 [n0, n1],
@@ -373,9 +436,17 @@ pub fn create_curves(
 /// Splits a segment into pieces: 2^split_depth at least, then halves any
 /// piece whose control polygon strays from its chord by more than a tenth
 /// of the width (so Newton's method sees one closest point), up to 2¹⁰.
-fn split_into_pieces(segment: &CurveSegment, index: u32, split_depth: u32, pieces: &mut Vec<CurvePiece>) {
+fn split_into_pieces(
+    segment: &CurveSegment,
+    index: u32,
+    split_depth: u32,
+    pieces: &mut Vec<CurvePiece>,
+) {
     let n = 1u32 << split_depth;
-    let mut stack: Vec<(f32, f32, u32)> = (0..n).rev().map(|i| (i as f32 / n as f32, (i + 1) as f32 / n as f32, split_depth)).collect();
+    let mut stack: Vec<(f32, f32, u32)> = (0..n)
+        .rev()
+        .map(|i| (i as f32 / n as f32, (i + 1) as f32 / n as f32, split_depth))
+        .collect();
     while let Some((u0, u1, depth)) = stack.pop() {
         let cp = blossom_piece(&segment.cp, u0, u1);
         let w = segment.width_at(u0).min(segment.width_at(u1)).max(1e-12);
@@ -385,7 +456,12 @@ fn split_into_pieces(segment: &CurveSegment, index: u32, split_depth: u32, piece
             stack.push((u0, mid, depth + 1));
             continue;
         }
-        pieces.push(CurvePiece { segment: index, u0, u1, cp });
+        pieces.push(CurvePiece {
+            segment: index,
+            u0,
+            u1,
+            cp,
+        });
     }
 }
 
@@ -459,7 +535,10 @@ mod tests {
                 best = (dist, u);
             }
         }
-        let (mut a, mut b) = ((best.1 - 1.0 / n as f64).max(0.0), (best.1 + 1.0 / n as f64).min(1.0));
+        let (mut a, mut b) = (
+            (best.1 - 1.0 / n as f64).max(0.0),
+            (best.1 + 1.0 / n as f64).min(1.0),
+        );
         for _ in 0..100 {
             let m1 = a + (b - a) * 0.382;
             let m2 = a + (b - a) * 0.618;
@@ -490,12 +569,15 @@ mod tests {
         };
         let (mut compared, mut worst_t, mut worst_v) = (0, 0.0f64, 0.0f64);
         for _ in 0..400 {
-            let cp = [0, 1, 2, 3].map(|i| Vec3::new(i as f32, rnd() * 2.0 - 1.0, rnd() * 2.0 - 1.0));
+            let cp =
+                [0, 1, 2, 3].map(|i| Vec3::new(i as f32, rnd() * 2.0 - 1.0, rnd() * 2.0 - 1.0));
             let w = 0.05 + 0.2 * rnd();
             let (s, pieces) = segment(cp, w, CurveType::Flat);
             for _ in 0..50 {
-                let target = evaluate_bezier(&cp, 0.05 + 0.9 * rnd()).0 + Vec3::new(0.0, rnd() - 0.5, rnd() - 0.5) * w;
-                let origin = target + Vec3::new(rnd() - 0.5, rnd() - 0.5, 3.0 + rnd()).normalize() * 5.0;
+                let target = evaluate_bezier(&cp, 0.05 + 0.9 * rnd()).0
+                    + Vec3::new(0.0, rnd() - 0.5, rnd() - 0.5) * w;
+                let origin =
+                    target + Vec3::new(rnd() - 0.5, rnd() - 0.5, 3.0 + rnd()).normalize() * 5.0;
                 let ray = Ray::new(origin, (target - origin) * (0.5 + rnd()), 0.0);
                 let ours = closest(&pieces, &s, &ray);
                 let reference = reference(&s, &ray);
@@ -511,7 +593,8 @@ mod tests {
                     // Grazing the edge of the width: both are right within
                     // precision.
                     (a, b) => {
-                        let near_edge = b.map_or(true, |(_, _, d)| d > 0.499) && a.map_or(true, |h| (h.v - 0.5).abs() > 0.499);
+                        let near_edge = b.map_or(true, |(_, _, d)| d > 0.499)
+                            && a.map_or(true, |h| (h.v - 0.5).abs() > 0.499);
                         assert!(near_edge, "ours {a:?} vs reference {b:?}");
                     }
                 }
@@ -525,10 +608,30 @@ mod tests {
 
     #[test]
     fn straight_curves_zero_widths_and_tiny_segments_are_finite() {
-        let straight = [Vec3::ZERO, Vec3::new(1.0, 0.0, 0.0), Vec3::new(2.0, 0.0, 0.0), Vec3::new(3.0, 0.0, 0.0)];
-        let tiny = [Vec3::ZERO, Vec3::splat(1e-7), Vec3::splat(2e-7), Vec3::splat(3e-7)];
-        let repeated = [Vec3::ZERO, Vec3::ZERO, Vec3::new(1.0, 0.0, 0.0), Vec3::new(1.0, 0.0, 0.0)];
-        for (cp, w) in [(straight, 0.1), (straight, 0.0), (tiny, 0.01), (repeated, 0.1)] {
+        let straight = [
+            Vec3::ZERO,
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(2.0, 0.0, 0.0),
+            Vec3::new(3.0, 0.0, 0.0),
+        ];
+        let tiny = [
+            Vec3::ZERO,
+            Vec3::splat(1e-7),
+            Vec3::splat(2e-7),
+            Vec3::splat(3e-7),
+        ];
+        let repeated = [
+            Vec3::ZERO,
+            Vec3::ZERO,
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(1.0, 0.0, 0.0),
+        ];
+        for (cp, w) in [
+            (straight, 0.1),
+            (straight, 0.0),
+            (tiny, 0.01),
+            (repeated, 0.1),
+        ] {
             for kind in [CurveType::Flat, CurveType::Cylinder] {
                 let (s, pieces) = segment(cp, w, kind);
                 for i in 0..50 {
@@ -536,7 +639,10 @@ mod tests {
                     let ray = Ray::new(Vec3::new(x, 0.01, 5.0), Vec3::new(0.0, 0.0, -1.0), 0.0);
                     if let Some(h) = closest(&pieces, &s, &ray) {
                         let si = h.interaction(&s, &ray);
-                        assert!(si.p.is_finite() && si.n.is_finite() && si.curve_h.is_finite(), "{si:?}");
+                        assert!(
+                            si.p.is_finite() && si.n.is_finite() && si.curve_h.is_finite(),
+                            "{si:?}"
+                        );
                         assert!(h.t.is_finite() && (0.0..=1.0).contains(&h.v));
                     }
                 }
@@ -546,14 +652,25 @@ mod tests {
 
     #[test]
     fn no_self_intersection_from_offset_origins() {
-        let cp = [Vec3::ZERO, Vec3::new(1.0, 0.5, 0.0), Vec3::new(2.0, -0.5, 0.2), Vec3::new(3.0, 0.0, 0.0)];
+        let cp = [
+            Vec3::ZERO,
+            Vec3::new(1.0, 0.5, 0.0),
+            Vec3::new(2.0, -0.5, 0.2),
+            Vec3::new(3.0, 0.0, 0.0),
+        ];
         let (s, pieces) = segment(cp, 0.1, CurveType::Cylinder);
         let mut hits = 0;
         for i in 0..200 {
             let u = 0.02 + 0.96 * i as f32 / 199.0;
             let target = evaluate_bezier(&cp, u).0;
-            let ray = Ray::new(target + Vec3::new(0.1, 0.2, 4.0), Vec3::new(-0.1, -0.2, -4.0), 0.0);
-            let Some(h) = closest(&pieces, &s, &ray) else { continue };
+            let ray = Ray::new(
+                target + Vec3::new(0.1, 0.2, 4.0),
+                Vec3::new(-0.1, -0.2, -4.0),
+                0.0,
+            );
+            let Some(h) = closest(&pieces, &s, &ray) else {
+                continue;
+            };
             hits += 1;
             let si = h.interaction(&s, &ray);
             // Leave the surface to the side of the normal and away from it.
@@ -562,7 +679,10 @@ mod tests {
                     continue;
                 }
                 let out = si.spawn_ray(d);
-                assert!(closest(&pieces, &s, &out).is_none_or(|h2| h2.t > 1e-2), "re-hit at u {u}");
+                assert!(
+                    closest(&pieces, &s, &out).is_none_or(|h2| h2.t > 1e-2),
+                    "re-hit at u {u}"
+                );
             }
         }
         assert!(hits > 150);
@@ -570,10 +690,17 @@ mod tests {
 
     #[test]
     fn cylinder_normal_turns_across_the_width() {
-        let cp = [Vec3::ZERO, Vec3::new(1.0, 0.0, 0.0), Vec3::new(2.0, 0.0, 0.0), Vec3::new(3.0, 0.0, 0.0)];
+        let cp = [
+            Vec3::ZERO,
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(2.0, 0.0, 0.0),
+            Vec3::new(3.0, 0.0, 0.0),
+        ];
         let (s, pieces) = segment(cp, 0.2, CurveType::Cylinder);
         let ray_at = |y: f32| Ray::new(Vec3::new(1.5, y, 5.0), Vec3::new(0.0, 0.0, -1.0), 0.0);
-        let centre = closest(&pieces, &s, &ray_at(0.0)).unwrap().interaction(&s, &ray_at(0.0));
+        let centre = closest(&pieces, &s, &ray_at(0.0))
+            .unwrap()
+            .interaction(&s, &ray_at(0.0));
         assert!(centre.n.z.abs() > 0.99, "{:?}", centre.n);
         let edge = closest(&pieces, &s, &ray_at(0.099)).unwrap();
         let si = edge.interaction(&s, &ray_at(0.099));

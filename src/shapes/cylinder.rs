@@ -183,7 +183,8 @@ impl Cylinder {
         let dpdu = Vec3::new(-self.phi_max * p.y, self.phi_max * p.x, 0.0);
         let dpdv = Vec3::new(0.0, 0.0, self.z_max - self.z_min);
         let d2p_duu = -self.phi_max * self.phi_max * Vec3::new(p.x, p.y, 0.0);
-        let (dndu, dndv) = weingarten_normal_derivatives(dpdu, dpdv, d2p_duu, Vec3::ZERO, Vec3::ZERO);
+        let (dndu, dndv) =
+            weingarten_normal_derivatives(dpdu, dpdv, d2p_duu, Vec3::ZERO, Vec3::ZERO);
         let object = surface_interaction(
             &SurfacePoint {
                 p,
@@ -222,7 +223,10 @@ impl Cylinder {
             p,
             p_error,
             n,
-            uv: Vec2::new(phi / self.phi_max, (p_object.z - self.z_min) / (self.z_max - self.z_min)),
+            uv: Vec2::new(
+                phi / self.phi_max,
+                (p_object.z - self.z_min) / (self.z_max - self.z_min),
+            ),
             pdf: 1.0 / self.area(),
         })
     }
@@ -245,7 +249,14 @@ mod tests {
 
     #[test]
     fn hits_match_the_analytic_answers() {
-        let c = Cylinder::new(&Transform::translate(DVec3::new(0.0, 0.0, 1.0)), false, 2.0, -1.0, 3.0, 360.0);
+        let c = Cylinder::new(
+            &Transform::translate(DVec3::new(0.0, 0.0, 1.0)),
+            false,
+            2.0,
+            -1.0,
+            3.0,
+            360.0,
+        );
         let ray = Ray::new(Vec3::new(10.0, 0.0, 2.0), -Vec3::X, 0.0);
         let hit = c.intersect(&ray, f32::INFINITY).unwrap();
         assert!((hit.t_hit - 8.0).abs() < 1e-5);
@@ -253,17 +264,37 @@ mod tests {
         assert!((si.p - Vec3::new(2.0, 0.0, 2.0)).abs().max_element() < 1e-5);
         assert!((si.n - Vec3::X).abs().max_element() < 1e-6);
         // z = 1 in object space: v = (1 − (−1))/4.
-        assert!((si.uv - Vec2::new(0.0, 0.5)).abs().max_element() < 1e-6, "{}", si.uv);
+        assert!(
+            (si.uv - Vec2::new(0.0, 0.5)).abs().max_element() < 1e-6,
+            "{}",
+            si.uv
+        );
         // Along the axis: no hit; past the ends: no hit; from inside: far wall.
-        assert!(!c.intersect_p(&Ray::new(Vec3::new(0.0, 0.0, -5.0), Vec3::Z, 0.0), f32::INFINITY));
-        assert!(!c.intersect_p(&Ray::new(Vec3::new(10.0, 0.0, 4.5), -Vec3::X, 0.0), f32::INFINITY));
-        let inside = c.intersect(&Ray::new(Vec3::new(0.0, 0.0, 1.0), Vec3::Y, 0.0), f32::INFINITY).unwrap();
+        assert!(!c.intersect_p(
+            &Ray::new(Vec3::new(0.0, 0.0, -5.0), Vec3::Z, 0.0),
+            f32::INFINITY
+        ));
+        assert!(!c.intersect_p(
+            &Ray::new(Vec3::new(10.0, 0.0, 4.5), -Vec3::X, 0.0),
+            f32::INFINITY
+        ));
+        let inside = c
+            .intersect(
+                &Ray::new(Vec3::new(0.0, 0.0, 1.0), Vec3::Y, 0.0),
+                f32::INFINITY,
+            )
+            .unwrap();
         assert!((inside.t_hit - 2.0).abs() < 1e-5);
         assert!((inside.interaction.uv.x - 0.25).abs() < 1e-6);
         assert!((inside.interaction.n - Vec3::Y).abs().max_element() < 1e-6);
         // A half cylinder (φ ≤ 180°) lets a ray into y < 0 through to the far wall.
         let half = Cylinder::new(&Transform::IDENTITY, true, 1.0, -1.0, 1.0, 180.0);
-        let hit = half.intersect(&Ray::new(Vec3::new(0.0, -5.0, 0.0), Vec3::Y, 0.0), f32::INFINITY).unwrap();
+        let hit = half
+            .intersect(
+                &Ray::new(Vec3::new(0.0, -5.0, 0.0), Vec3::Y, 0.0),
+                f32::INFINITY,
+            )
+            .unwrap();
         assert!((hit.interaction.p.y - 1.0).abs() < 1e-6);
         // Reversed: the normal points at the axis.
         assert!((hit.interaction.n + Vec3::Y).abs().max_element() < 1e-6);
@@ -276,8 +307,13 @@ mod tests {
             let scale = if case % 2 == 0 { 1.0 } else { 1e4 };
             let center = rng.direction().as_dvec3() * scale;
             let axis = rng.direction().as_dvec3();
-            let t = Transform::translate(center).then(&Transform::rotate(rng.range(0.0, 6.0) as f64, axis).unwrap());
-            let radius = if scale == 1.0 { rng.range(0.05, 10.0) } else { rng.range(1.0, 100.0) };
+            let t = Transform::translate(center)
+                .then(&Transform::rotate(rng.range(0.0, 6.0) as f64, axis).unwrap());
+            let radius = if scale == 1.0 {
+                rng.range(0.05, 10.0)
+            } else {
+                rng.range(1.0, 100.0)
+            };
             let c = Cylinder::new(&t, false, radius, -radius, radius, 360.0);
             let m = t.to_mat4();
             let phi = rng.range(0.0, 2.0 * PI);
@@ -285,18 +321,25 @@ mod tests {
             let target = m.transform_point3(Vec3::new(radius * phi.cos(), radius * phi.sin(), z));
             let outward = m.transform_vector3(Vec3::new(phi.cos(), phi.sin(), 0.0));
             let origin = target + (outward + 0.5 * rng.direction()) * radius * rng.range(1.0, 10.0);
-            let Some(hit) = c.intersect(&Ray::new(origin, target - origin, 0.0), f32::INFINITY) else {
+            let Some(hit) = c.intersect(&Ray::new(origin, target - origin, 0.0), f32::INFINITY)
+            else {
                 continue;
             };
             let si = hit.interaction;
             // Leaving on the outside of a convex surface: never a hit.
             let out = rng.direction_around(si.n);
             if out.dot(si.n) > 0.0 {
-                assert!(c.intersect(&si.spawn_ray(out), f32::INFINITY).is_none(), "case {case}: re-hit");
+                assert!(
+                    c.intersect(&si.spawn_ray(out), f32::INFINITY).is_none(),
+                    "case {case}: re-hit"
+                );
             }
             // Going in: any hit is elsewhere on the cylinder.
             if let Some(again) = c.intersect(&si.spawn_ray(-out), f32::INFINITY) {
-                assert!(again.interaction.p.distance(si.p) > 1e-3 * radius, "case {case}: self-hit");
+                assert!(
+                    again.interaction.p.distance(si.p) > 1e-3 * radius,
+                    "case {case}: self-hit"
+                );
             }
         }
     }
@@ -328,7 +371,11 @@ mod tests {
                 let u = Vec2::new((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32);
                 let phi = u.x * 1.5 * PI;
                 let p = Vec3::new(0.5 * phi.cos(), 0.5 * phi.sin(), 2.0 * u.y);
-                let ray = Ray::new(p * Vec3::new(3.0, 3.0, 1.0), p * Vec3::new(-2.0, -2.0, 0.0), 0.0);
+                let ray = Ray::new(
+                    p * Vec3::new(3.0, 3.0, 1.0),
+                    p * Vec3::new(-2.0, -2.0, 0.0),
+                    0.0,
+                );
                 let si = c.intersect(&ray, f32::INFINITY).unwrap().interaction;
                 integral += si.dpdu.cross(si.dpdv).length() / (n * n) as f32 * (1.0 / c.area());
             }

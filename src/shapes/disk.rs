@@ -202,7 +202,14 @@ mod tests {
 
     #[test]
     fn hits_match_the_analytic_answers() {
-        let disk = Disk::new(&Transform::translate(DVec3::new(0.0, 0.0, 1.0)), false, 0.5, 2.0, 0.5, 360.0);
+        let disk = Disk::new(
+            &Transform::translate(DVec3::new(0.0, 0.0, 1.0)),
+            false,
+            0.5,
+            2.0,
+            0.5,
+            360.0,
+        );
         let ray = Ray::new(Vec3::new(0.0, 1.0, 5.0), -Vec3::Z, 0.0);
         let hit = disk.intersect(&ray, f32::INFINITY).unwrap();
         assert!((hit.t_hit - 3.5).abs() < 1e-6);
@@ -210,20 +217,42 @@ mod tests {
         assert_eq!(si.p, Vec3::new(0.0, 1.0, 1.5));
         assert_eq!(si.n, Vec3::Z);
         // φ = 90°, r = 1: u = 1/4, v = (2 − 1)/(2 − 0.5).
-        assert!((si.uv - Vec2::new(0.25, 1.0 / 1.5)).abs().max_element() < 1e-6, "{}", si.uv);
+        assert!(
+            (si.uv - Vec2::new(0.25, 1.0 / 1.5)).abs().max_element() < 1e-6,
+            "{}",
+            si.uv
+        );
         assert!(si.dpdu.cross(si.dpdv).dot(si.n) > 0.0);
         // The hole, the rim, and parallel rays.
-        assert!(!disk.intersect_p(&Ray::new(Vec3::new(0.2, 0.0, 5.0), -Vec3::Z, 0.0), f32::INFINITY));
-        assert!(!disk.intersect_p(&Ray::new(Vec3::new(2.1, 0.0, 5.0), -Vec3::Z, 0.0), f32::INFINITY));
-        assert!(!disk.intersect_p(&Ray::new(Vec3::new(0.0, 1.0, 1.5), Vec3::X, 0.0), f32::INFINITY));
+        assert!(!disk.intersect_p(
+            &Ray::new(Vec3::new(0.2, 0.0, 5.0), -Vec3::Z, 0.0),
+            f32::INFINITY
+        ));
+        assert!(!disk.intersect_p(
+            &Ray::new(Vec3::new(2.1, 0.0, 5.0), -Vec3::Z, 0.0),
+            f32::INFINITY
+        ));
+        assert!(!disk.intersect_p(
+            &Ray::new(Vec3::new(0.0, 1.0, 1.5), Vec3::X, 0.0),
+            f32::INFINITY
+        ));
         assert!(!disk.intersect_p(&ray, 3.0));
         // A quarter disk misses φ = 180°.
         let quarter = Disk::new(&Transform::IDENTITY, false, 0.0, 1.0, 0.0, 90.0);
-        assert!(!quarter.intersect_p(&Ray::new(Vec3::new(-0.5, 0.1, 1.0), -Vec3::Z, 0.0), f32::INFINITY));
-        assert!(quarter.intersect_p(&Ray::new(Vec3::new(0.5, 0.1, 1.0), -Vec3::Z, 0.0), f32::INFINITY));
+        assert!(!quarter.intersect_p(
+            &Ray::new(Vec3::new(-0.5, 0.1, 1.0), -Vec3::Z, 0.0),
+            f32::INFINITY
+        ));
+        assert!(quarter.intersect_p(
+            &Ray::new(Vec3::new(0.5, 0.1, 1.0), -Vec3::Z, 0.0),
+            f32::INFINITY
+        ));
         // Reverse orientation flips the normal.
         let reversed = Disk::new(&Transform::IDENTITY, true, 0.0, 1.0, 0.0, 360.0);
-        let hit = reversed.intersect(&Ray::new(Vec3::new(0.5, 0.1, 1.0), -Vec3::Z, 0.0), f32::INFINITY);
+        let hit = reversed.intersect(
+            &Ray::new(Vec3::new(0.5, 0.1, 1.0), -Vec3::Z, 0.0),
+            f32::INFINITY,
+        );
         assert_eq!(hit.unwrap().interaction.n, -Vec3::Z);
     }
 
@@ -234,7 +263,8 @@ mod tests {
             let scale = if case % 2 == 0 { 1.0 } else { 1e4 };
             let center = rng.direction().as_dvec3() * scale;
             let axis = rng.direction().as_dvec3();
-            let t = Transform::translate(center).then(&Transform::rotate(rng.range(0.0, 6.0) as f64, axis).unwrap());
+            let t = Transform::translate(center)
+                .then(&Transform::rotate(rng.range(0.0, 6.0) as f64, axis).unwrap());
             let radius = rng.range(0.5, 10.0);
             let disk = Disk::new(&t, case % 3 == 0, rng.range(-1.0, 1.0), radius, 0.0, 360.0);
             let m = t.to_mat4();
@@ -242,7 +272,8 @@ mod tests {
             let target = m.transform_point3(Vec3::new(target_object.x, target_object.y, 0.0));
             let normal = m.transform_vector3(Vec3::Z).normalize();
             let origin = target + rng.direction_around(normal) * rng.range(0.1, 50.0);
-            let Some(hit) = disk.intersect(&Ray::new(origin, target - origin, 0.0), f32::INFINITY) else {
+            let Some(hit) = disk.intersect(&Ray::new(origin, target - origin, 0.0), f32::INFINITY)
+            else {
                 continue;
             };
             let si = hit.interaction;

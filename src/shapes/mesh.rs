@@ -127,7 +127,11 @@ impl TriangleMesh {
         reverse_orientation: bool,
     ) -> Result<Self> {
         let data = read_mesh_parameters(params, location, 3, true)?;
-        Ok(TriangleMesh::new(render_from_object, reverse_orientation, data))
+        Ok(TriangleMesh::new(
+            render_from_object,
+            reverse_orientation,
+            data,
+        ))
     }
 
     pub fn triangle_count(&self) -> usize {
@@ -174,7 +178,11 @@ impl BilinearPatchMesh {
         reverse_orientation: bool,
     ) -> Result<Self> {
         let data = read_mesh_parameters(params, location, 4, false)?;
-        Ok(BilinearPatchMesh::new(render_from_object, reverse_orientation, data))
+        Ok(BilinearPatchMesh::new(
+            render_from_object,
+            reverse_orientation,
+            data,
+        ))
     }
 
     pub fn patch_count(&self) -> usize {
@@ -194,7 +202,12 @@ impl BilinearPatchMesh {
 }
 
 /// The location of parameter `name` (for errors), or the directive's.
-fn parameter_location(params: &ParamSet, name: &str, ty: ParamType, fallback: &Location) -> Result<Location> {
+fn parameter_location(
+    params: &ParamSet,
+    name: &str,
+    ty: ParamType,
+    fallback: &Location,
+) -> Result<Location> {
     Ok(params
         .find(name, &[ty])?
         .map_or_else(|| fallback.clone(), |p| p.location.clone()))
@@ -217,10 +230,18 @@ fn read_mesh_parameters(
     } else {
         "bilinearmesh"
     };
-    let faces = if vertices_per_face == 3 { "triangles" } else { "patches" };
+    let faces = if vertices_per_face == 3 {
+        "triangles"
+    } else {
+        "patches"
+    };
     let positions = to_vec3s(params.point3s("P")?);
     let indices = params.ints("indices")?;
-    let uvs: Vec<Vec2> = params.point2s("uv")?.into_iter().map(|v| v.as_vec2()).collect();
+    let uvs: Vec<Vec2> = params
+        .point2s("uv")?
+        .into_iter()
+        .map(|v| v.as_vec2())
+        .collect();
     let normals = to_vec3s(params.normals("N")?);
     let tangents = if has_tangents {
         to_vec3s(params.vector3s("S")?)
@@ -230,7 +251,10 @@ fn read_mesh_parameters(
     let face_indices = params.ints("faceIndices")?;
 
     if positions.is_empty() {
-        return scene_error(format!("{what}: \"P\" missing: vertex positions must be given"), location);
+        return scene_error(
+            format!("{what}: \"P\" missing: vertex positions must be given"),
+            location,
+        );
     }
     let indices_location = parameter_location(params, "indices", ParamType::Integer, location)?;
     let vertex_indices: Vec<u32> = if indices.is_empty() {
@@ -342,20 +366,32 @@ mod tests {
         assert!(e.contains("\"P\" missing"), "{e}");
         let e = error_of(r#"Shape "trianglemesh" "point3 P" [0 0 0 1 0 0 0 1 0 1 1 0]"#);
         assert!(e.contains("\"indices\" missing"), "{e}");
-        let e = error_of(r#"Shape "trianglemesh" "point3 P" [0 0 0 1 0 0 0 1 0] "integer indices" [0 1 3]"#);
+        let e = error_of(
+            r#"Shape "trianglemesh" "point3 P" [0 0 0 1 0 0 0 1 0] "integer indices" [0 1 3]"#,
+        );
         assert!(e.contains("\"indices\" values out of range: 3"), "{e}");
         assert!(e.contains("<t>:1:"), "{e}");
-        let e = error_of(r#"Shape "trianglemesh" "point3 P" [0 0 0 1 0 0 0 1 0] "integer indices" [0 1 -1]"#);
+        let e = error_of(
+            r#"Shape "trianglemesh" "point3 P" [0 0 0 1 0 0 0 1 0] "integer indices" [0 1 -1]"#,
+        );
         assert!(e.contains("out of range: -1"), "{e}");
-        let e = error_of(r#"Shape "trianglemesh" "point3 P" [0 0 0 1 0 0 0 1 0] "integer indices" [0 1 2 0]"#);
+        let e = error_of(
+            r#"Shape "trianglemesh" "point3 P" [0 0 0 1 0 0 0 1 0] "integer indices" [0 1 2 0]"#,
+        );
         assert!(e.contains("not a multiple of 3"), "{e}");
-        let e = error_of(r#"Shape "trianglemesh" "point3 P" [0 0 0 1 0 0 0 1 0] "normal N" [0 0 1]"#);
+        let e =
+            error_of(r#"Shape "trianglemesh" "point3 P" [0 0 0 1 0 0 0 1 0] "normal N" [0 0 1]"#);
         assert!(e.contains("\"N\" count must match \"P\" count"), "{e}");
-        let e = error_of(r#"Shape "trianglemesh" "point3 P" [0 0 0 1 0 0 0 1 0] "point2 uv" [0 0 1 1]"#);
+        let e = error_of(
+            r#"Shape "trianglemesh" "point3 P" [0 0 0 1 0 0 0 1 0] "point2 uv" [0 0 1 1]"#,
+        );
         assert!(e.contains("\"uv\" count must match"), "{e}");
-        let e = error_of(r#"Shape "trianglemesh" "point3 P" [0 0 0 1 0 0 0 1 0] "vector3 S" [1 0 0]"#);
+        let e =
+            error_of(r#"Shape "trianglemesh" "point3 P" [0 0 0 1 0 0 0 1 0] "vector3 S" [1 0 0]"#);
         assert!(e.contains("\"S\" count must match"), "{e}");
-        let e = error_of(r#"Shape "trianglemesh" "point3 P" [0 0 0 1 0 0 0 1 0] "integer faceIndices" [1 2]"#);
+        let e = error_of(
+            r#"Shape "trianglemesh" "point3 P" [0 0 0 1 0 0 0 1 0] "integer faceIndices" [1 2]"#,
+        );
         assert!(e.contains("\"faceIndices\" count (2)"), "{e}");
     }
 
@@ -378,13 +414,19 @@ mod tests {
     fn bilinear_meshes_are_checked_too() {
         let (params, location) =
             shape_parameters(r#"Shape "bilinearmesh" "point3 P" [0 0 0 1 0 0 0 1 0 1 1 0]"#);
-        let mesh = BilinearPatchMesh::from_parameters(&params, &location, &Transform::IDENTITY, false).unwrap();
+        let mesh =
+            BilinearPatchMesh::from_parameters(&params, &location, &Transform::IDENTITY, false)
+                .unwrap();
         assert_eq!(mesh.vertex_indices, vec![0, 1, 2, 3]);
-        let (params, location) =
-            shape_parameters(r#"Shape "bilinearmesh" "point3 P" [0 0 0 1 0 0 0 1 0 1 1 0] "integer indices" [0 1 2 4]"#);
+        let (params, location) = shape_parameters(
+            r#"Shape "bilinearmesh" "point3 P" [0 0 0 1 0 0 0 1 0 1 1 0] "integer indices" [0 1 2 4]"#,
+        );
         let e = BilinearPatchMesh::from_parameters(&params, &location, &Transform::IDENTITY, false)
             .unwrap_err()
             .to_string();
-        assert!(e.contains("bilinearmesh: \"indices\" values out of range: 4"), "{e}");
+        assert!(
+            e.contains("bilinearmesh: \"indices\" values out of range: 4"),
+            "{e}"
+        );
     }
 }

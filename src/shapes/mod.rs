@@ -170,7 +170,12 @@ impl Shape {
     }
 
     /// The closest hit with `0 < t < t_max` (t in units of `ray.direction`).
-    pub fn intersect(&self, storage: &ShapeStorage, ray: &Ray, t_max: f32) -> Option<ShapeIntersection> {
+    pub fn intersect(
+        &self,
+        storage: &ShapeStorage,
+        ray: &Ray,
+        t_max: f32,
+    ) -> Option<ShapeIntersection> {
         match self {
             Shape::Sphere(s) => s.intersect(ray, t_max),
             Shape::Disk(d) => d.intersect(ray, t_max),
@@ -180,7 +185,10 @@ impl Shape {
             Shape::Curve(c) => {
                 let (piece, segment) = storage.curve(*c);
                 let hit = piece.intersect(segment, ray, t_max)?;
-                Some(ShapeIntersection { interaction: hit.interaction(segment, ray), t_hit: hit.t })
+                Some(ShapeIntersection {
+                    interaction: hit.interaction(segment, ray),
+                    t_hit: hit.t,
+                })
             }
         }
     }
@@ -232,7 +240,12 @@ impl Shape {
 
     /// A point on the surface as seen from `ctx`; `pdf` is per unit solid
     /// angle at `ctx.p`.
-    pub fn sample_from(&self, storage: &ShapeStorage, ctx: &ShapeSampleContext, u: Vec2) -> Option<ShapeSample> {
+    pub fn sample_from(
+        &self,
+        storage: &ShapeStorage,
+        ctx: &ShapeSampleContext,
+        u: Vec2,
+    ) -> Option<ShapeSample> {
         match self {
             Shape::Sphere(s) => s.sample_from(ctx, u),
             Shape::Disk(d) => d.sample_from(ctx, u),
@@ -271,7 +284,10 @@ impl Shape {
 /// Converts an area-measure sample to solid angle at `ctx` (pbrt's shared
 /// `Sample(ctx, u)` fallback): `pdf_ω = pdf_A · d² / |cos θ|`. `None` when the
 /// sample is at the reference point or seen exactly edge-on.
-pub(crate) fn area_sample_to_solid_angle(sample: ShapeSample, ctx: &ShapeSampleContext) -> Option<ShapeSample> {
+pub(crate) fn area_sample_to_solid_angle(
+    sample: ShapeSample,
+    ctx: &ShapeSampleContext,
+) -> Option<ShapeSample> {
     let to_sample = sample.p - ctx.p;
     let distance_squared = to_sample.length_squared();
     if distance_squared == 0.0 {
@@ -342,18 +358,30 @@ pub fn create_shapes(
             reverse_orientation,
         )?))],
         "trianglemesh" => {
-            let mesh = TriangleMesh::from_parameters(params, location, render_from_object, reverse_orientation)?;
+            let mesh = TriangleMesh::from_parameters(
+                params,
+                location,
+                render_from_object,
+                reverse_orientation,
+            )?;
             push_triangle_mesh(storage, mesh)
         }
         "bilinearmesh" => {
-            let mesh =
-                BilinearPatchMesh::from_parameters(params, location, render_from_object, reverse_orientation)?;
+            let mesh = BilinearPatchMesh::from_parameters(
+                params,
+                location,
+                render_from_object,
+                reverse_orientation,
+            )?;
             push_bilinear_mesh(storage, mesh)
         }
         "plymesh" => {
             let filename = params.string("filename", "")?;
             params.float("edgelength", 1.0)?;
-            if params.find("displacement", &[ParamType::Float, ParamType::Texture])?.is_some() {
+            if params
+                .find("displacement", &[ParamType::Float, ParamType::Texture])?
+                .is_some()
+            {
                 return scene_error("plymesh displacement is not supported yet", location);
             }
             if filename.is_empty() {
@@ -390,13 +418,20 @@ pub fn create_shapes(
                 &mut storage.curve_segments,
                 &mut storage.curve_pieces,
             )?;
-            (first..storage.curve_pieces.len() as u32).map(Shape::Curve).collect()
+            (first..storage.curve_pieces.len() as u32)
+                .map(Shape::Curve)
+                .collect()
         }
-        "loopsubdiv" => return scene_error(format!("shape \"{kind}\" is not supported yet"), location),
+        "loopsubdiv" => {
+            return scene_error(format!("shape \"{kind}\" is not supported yet"), location)
+        }
         _ => return scene_error(format!("\"{kind}\": unknown shape type"), location),
     };
     if shapes.is_empty() {
-        return scene_error(format!("{kind}: unable to create shape (it has no faces)"), location);
+        return scene_error(
+            format!("{kind}: unable to create shape (it has no faces)"),
+            location,
+        );
     }
     Ok(shapes)
 }
@@ -488,10 +523,22 @@ element face 2\nproperty list uchar int vertex_indices\nend_header\n\
         assert!(matches!(shapes[0], Shape::Sphere(_)));
         assert!(matches!(shapes[1], Shape::Disk(_)));
         assert!(matches!(shapes[2], Shape::Cylinder(_)));
-        assert!(matches!(shapes[3], Shape::Triangle(Triangle { mesh: 0, index: 0 })));
-        assert!(matches!(shapes[4], Shape::Triangle(Triangle { mesh: 0, index: 1 })));
-        assert!(matches!(shapes[5], Shape::BilinearPatch(BilinearPatch { mesh: 0, index: 0 })));
-        assert!(matches!(shapes[6], Shape::BilinearPatch(BilinearPatch { mesh: 1, index: 0 })));
+        assert!(matches!(
+            shapes[3],
+            Shape::Triangle(Triangle { mesh: 0, index: 0 })
+        ));
+        assert!(matches!(
+            shapes[4],
+            Shape::Triangle(Triangle { mesh: 0, index: 1 })
+        ));
+        assert!(matches!(
+            shapes[5],
+            Shape::BilinearPatch(BilinearPatch { mesh: 0, index: 0 })
+        ));
+        assert!(matches!(
+            shapes[6],
+            Shape::BilinearPatch(BilinearPatch { mesh: 1, index: 0 })
+        ));
         assert_eq!(storage.triangle_meshes.len(), 1);
         assert_eq!(storage.bilinear_meshes.len(), 2);
         // The pentagon of the PLY file was skipped with a warning.
@@ -506,13 +553,23 @@ element face 2\nproperty list uchar int vertex_indices\nend_header\n\
         let nearest = shapes
             .iter()
             .enumerate()
-            .filter_map(|(i, s)| s.intersect(&storage, &ray, f32::INFINITY).map(|h| (i, h.t_hit)))
+            .filter_map(|(i, s)| {
+                s.intersect(&storage, &ray, f32::INFINITY)
+                    .map(|h| (i, h.t_hit))
+            })
             .min_by(|a, b| a.1.total_cmp(&b.1))
             .unwrap();
         assert_eq!(nearest.0, 0);
-        let t_of = |i: usize| shapes[i].intersect(&storage, &ray, f32::INFINITY).map(|h| h.t_hit);
+        let t_of = |i: usize| {
+            shapes[i]
+                .intersect(&storage, &ray, f32::INFINITY)
+                .map(|h| h.t_hit)
+        };
         assert!((t_of(1).unwrap() - 9.0).abs() < 1e-5, "disk at z = 11");
-        assert!(t_of(2).is_none(), "the cylinder's axis is the ray's neighbour, not its target");
+        assert!(
+            t_of(2).is_none(),
+            "the cylinder's axis is the ray's neighbour, not its target"
+        );
         assert!(t_of(3).is_none(), "(0.25, 0.5) is in the second triangle");
         assert!((t_of(4).unwrap() - 20.0).abs() < 1e-5);
         assert!((t_of(5).unwrap() - 15.0).abs() < 1e-5);
@@ -568,14 +625,26 @@ element face 2\nproperty list uchar int vertex_indices\nend_header\n\
     fn unsupported_and_broken_shapes_are_errors() {
         let dir = temporary_directory("errors");
         let error = |world: &str| create_all(&dir, world).0.unwrap_err().to_string();
-        let e = error(r#"Shape "loopsubdiv" "integer indices" [0 1 2] "point3 P" [0 0 0 1 0 0 0 1 0]"#);
-        assert!(e.contains("shape \"loopsubdiv\" is not supported yet"), "{e}");
+        let e =
+            error(r#"Shape "loopsubdiv" "integer indices" [0 1 2] "point3 P" [0 0 0 1 0 0 0 1 0]"#);
+        assert!(
+            e.contains("shape \"loopsubdiv\" is not supported yet"),
+            "{e}"
+        );
         let e = error(r#"Shape "plymesh" "string filename" "mesh.ply" "float displacement" 0.1"#);
-        assert!(e.contains("plymesh displacement is not supported yet"), "{e}");
+        assert!(
+            e.contains("plymesh displacement is not supported yet"),
+            "{e}"
+        );
         let e = error(r#"Shape "plymesh" "string filename" "missing.ply""#);
         assert!(e.contains("missing.ply"), "{e}");
-        let e = error(r#"Shape "trianglemesh" "point3 P" [0 0 0 1 0 0 0 1 0] "integer indices" [0 1 7]"#);
-        assert!(e.contains("\"indices\" values out of range: 7") && e.contains("scene.pbrt:2:"), "{e}");
+        let e = error(
+            r#"Shape "trianglemesh" "point3 P" [0 0 0 1 0 0 0 1 0] "integer indices" [0 1 7]"#,
+        );
+        assert!(
+            e.contains("\"indices\" values out of range: 7") && e.contains("scene.pbrt:2:"),
+            "{e}"
+        );
         let _ = std::fs::remove_dir_all(&dir);
     }
 }

@@ -51,9 +51,21 @@ impl ObjectTransform {
         let mut out = Bounds3::EMPTY;
         for corner in 0..8 {
             let p = Vec3::new(
-                if corner & 1 == 0 { object_bounds.min.x } else { object_bounds.max.x },
-                if corner & 2 == 0 { object_bounds.min.y } else { object_bounds.max.y },
-                if corner & 4 == 0 { object_bounds.min.z } else { object_bounds.max.z },
+                if corner & 1 == 0 {
+                    object_bounds.min.x
+                } else {
+                    object_bounds.max.x
+                },
+                if corner & 2 == 0 {
+                    object_bounds.min.y
+                } else {
+                    object_bounds.max.y
+                },
+                if corner & 4 == 0 {
+                    object_bounds.min.z
+                } else {
+                    object_bounds.max.z
+                },
             );
             out = out.with_point(transform_point(&self.render_from_object, p));
         }
@@ -62,10 +74,19 @@ impl ObjectTransform {
 
     /// A render-space ray origin and direction in object space, as
     /// intervals (the transform's rounding error bounded).
-    pub fn ray_to_object(&self, origin: Vec3, direction: Vec3) -> (Vec3, Vec3Interval, Vec3, Vec3Interval) {
+    pub fn ray_to_object(
+        &self,
+        origin: Vec3,
+        direction: Vec3,
+    ) -> (Vec3, Vec3Interval, Vec3, Vec3Interval) {
         let (o, o_error) = transform_point_with_error(&self.object_from_render, origin, Vec3::ZERO);
         let (d, d_error) = transform_vector_with_error(&self.object_from_render, direction);
-        (o, Vec3Interval::new(o, o_error), d, Vec3Interval::new(d, d_error))
+        (
+            o,
+            Vec3Interval::new(o, o_error),
+            d,
+            Vec3Interval::new(d, d_error),
+        )
     }
 
     /// An object-space point and its error bound, in render space.
@@ -159,7 +180,8 @@ pub fn transform_point_with_error(m: &Mat4, p: Vec3, p_error: Vec3) -> (Vec3, Ve
 /// `m · (v, 0)` and the error bound of the result for an exact `v`.
 pub fn transform_vector_with_error(m: &Mat4, v: Vec3) -> (Vec3, Vec3) {
     let a = m.abs();
-    let magnitude = a.x_axis.xyz() * v.x.abs() + a.y_axis.xyz() * v.y.abs() + a.z_axis.xyz() * v.z.abs();
+    let magnitude =
+        a.x_axis.xyz() * v.x.abs() + a.y_axis.xyz() * v.y.abs() + a.z_axis.xyz() * v.z.abs();
     (m.transform_vector3(v), gamma(3) * magnitude)
 }
 
@@ -190,8 +212,12 @@ mod tests {
         let t = Transform::scale(DVec3::new(1.0, 4.0, 1.0)).unwrap();
         let xf = ObjectTransform::new(&t);
         // A 45° normal in object space leans towards x after stretching y.
-        let n = xf.normal_to_render(Vec3::new(1.0, 1.0, 0.0).normalize()).normalize();
-        let tangent = xf.render_from_object.transform_vector3(Vec3::new(1.0, -1.0, 0.0));
+        let n = xf
+            .normal_to_render(Vec3::new(1.0, 1.0, 0.0).normalize())
+            .normalize();
+        let tangent = xf
+            .render_from_object
+            .transform_vector3(Vec3::new(1.0, -1.0, 0.0));
         assert!(n.dot(tangent).abs() < 1e-6);
         assert!(n.x > n.y);
     }

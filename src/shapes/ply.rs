@@ -60,7 +60,11 @@ pub struct PlyMeshes {
 impl PlyMesh {
     /// The triangle mesh and bilinear patch mesh of the file, in render
     /// space (each keeps all the file's vertices, as in pbrt-v4).
-    pub fn into_meshes(self, render_from_object: &Transform, reverse_orientation: bool) -> PlyMeshes {
+    pub fn into_meshes(
+        self,
+        render_from_object: &Transform,
+        reverse_orientation: bool,
+    ) -> PlyMeshes {
         let PlyMesh {
             positions,
             normals,
@@ -104,16 +108,27 @@ pub fn read_ply(path: &Path, location: &Location) -> Result<PlyMesh> {
         path: path.display().to_string(),
         source,
     })?;
-    let gzipped = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("gz"));
+    let gzipped = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("gz"));
     if gzipped {
-        read_ply_from(BufReader::new(flate2::read::MultiGzDecoder::new(file)), path, location)
+        read_ply_from(
+            BufReader::new(flate2::read::MultiGzDecoder::new(file)),
+            path,
+            location,
+        )
     } else {
         read_ply_from(BufReader::new(file), path, location)
     }
 }
 
 /// The texture coordinate property names, best first, as (u name, v name).
-const UV_NAMES: [(&str, &str); 4] = [("u", "v"), ("s", "t"), ("texture_u", "texture_v"), ("texture_s", "texture_t")];
+const UV_NAMES: [(&str, &str); 4] = [
+    ("u", "v"),
+    ("s", "t"),
+    ("texture_u", "texture_v"),
+    ("texture_s", "texture_t"),
+];
 
 /// A vertex as read: position, normal, and the best-ranked texture
 /// coordinates seen (rank = index into [`UV_NAMES`]).
@@ -135,18 +150,15 @@ impl PlyVertex {
             "ny" => self.normal[1] = value,
             "nz" => self.normal[2] = value,
             _ => {
-                let found = UV_NAMES
-                    .iter()
-                    .enumerate()
-                    .find_map(|(rank, (u, v))| {
-                        if name == *u {
-                            Some((0, rank))
-                        } else if name == *v {
-                            Some((1, rank))
-                        } else {
-                            None
-                        }
-                    });
+                let found = UV_NAMES.iter().enumerate().find_map(|(rank, (u, v))| {
+                    if name == *u {
+                        Some((0, rank))
+                    } else if name == *v {
+                        Some((1, rank))
+                    } else {
+                        None
+                    }
+                });
                 let Some((axis, rank)) = found else {
                     return PropertyAccessResult::Ignored;
                 };
@@ -209,7 +221,11 @@ fn is_vertex_index_list(name: &str) -> bool {
 }
 
 impl PlyFace {
-    fn set_indices(&mut self, name: &str, values: impl ExactSizeIterator<Item = i64>) -> PropertyAccessResult {
+    fn set_indices(
+        &mut self,
+        name: &str,
+        values: impl ExactSizeIterator<Item = i64>,
+    ) -> PropertyAccessResult {
         if !is_vertex_index_list(name) {
             return PropertyAccessResult::Ignored;
         }
@@ -287,31 +303,56 @@ impl PropertyAccess for IgnoredElement {
 fn read_ply_from<R: BufRead>(source: R, path: &Path, location: &Location) -> Result<PlyMesh> {
     let name = path.display();
     let parse_error = |e: ply_rs_bw::parser::ParseError| -> Error {
-        crate::error::SceneError::new(format!("{name}: unable to read the PLY file: {e}"), location).into()
+        crate::error::SceneError::new(
+            format!("{name}: unable to read the PLY file: {e}"),
+            location,
+        )
+        .into()
     };
     let mut reader = Reader::new(source);
     let vertex_parser = Parser::<PlyVertex>::new();
     let face_parser = Parser::<PlyFace>::new();
     let ignored_parser = Parser::<IgnoredElement>::new();
-    let header = vertex_parser.read_header(&mut reader).map_err(parse_error)?;
+    let header = vertex_parser
+        .read_header(&mut reader)
+        .map_err(parse_error)?;
 
     let Some(vertex_element) = header.elements.get("vertex") else {
-        return scene_error(format!("{name}: PLY file is invalid: no \"vertex\" element"), location);
+        return scene_error(
+            format!("{name}: PLY file is invalid: no \"vertex\" element"),
+            location,
+        );
     };
     let Some(face_element) = header.elements.get("face") else {
-        return scene_error(format!("{name}: PLY file is invalid: no \"face\" element"), location);
+        return scene_error(
+            format!("{name}: PLY file is invalid: no \"face\" element"),
+            location,
+        );
     };
     if vertex_element.count == 0 || face_element.count == 0 {
-        return scene_error(format!("{name}: PLY file is invalid: no vertices or no faces"), location);
+        return scene_error(
+            format!("{name}: PLY file is invalid: no vertices or no faces"),
+            location,
+        );
     }
     let has = |property: &str| vertex_element.properties.contains_key(property);
     if !(has("x") && has("y") && has("z")) {
-        return scene_error(format!("{name}: vertex coordinate property (x, y, z) not found"), location);
+        return scene_error(
+            format!("{name}: vertex coordinate property (x, y, z) not found"),
+            location,
+        );
     }
     let has_normals = has("nx") && has("ny") && has("nz");
     let has_uvs = UV_NAMES.iter().any(|(u, v)| has(u) && has(v));
-    if !face_element.properties.keys().any(|k| is_vertex_index_list(k)) {
-        return scene_error(format!("{name}: vertex indices not found in the PLY file"), location);
+    if !face_element
+        .properties
+        .keys()
+        .any(|k| is_vertex_index_list(k))
+    {
+        return scene_error(
+            format!("{name}: vertex indices not found in the PLY file"),
+            location,
+        );
     }
     let has_face_indices = face_element.properties.contains_key("face_indices");
 
@@ -394,7 +435,8 @@ mod tests {
         dir
     }
 
-    const HEADER_VERTEX: &str = "element vertex 5\nproperty float x\nproperty float y\nproperty float z\n\
+    const HEADER_VERTEX: &str =
+        "element vertex 5\nproperty float x\nproperty float y\nproperty float z\n\
 property float nx\nproperty float ny\nproperty float nz\nproperty float u\nproperty float v\n";
 
     /// Vertices: a unit square at z = 0 and an apex; faces: the square as a
@@ -411,7 +453,8 @@ property float nx\nproperty float ny\nproperty float nz\nproperty float u\nprope
     fn ascii_ply() -> String {
         let mut text = String::from("ply\nformat ascii 1.0\ncomment made by a test\n");
         text += HEADER_VERTEX;
-        text += "element face 4\nproperty list uchar int vertex_indices\nproperty int face_indices\n";
+        text +=
+            "element face 4\nproperty list uchar int vertex_indices\nproperty int face_indices\n";
         text += "element material 1\nproperty float shininess\nend_header\n";
         for v in VERTICES {
             let line: Vec<String> = v.iter().map(|x| x.to_string()).collect();
@@ -426,12 +469,28 @@ property float nx\nproperty float ny\nproperty float nz\nproperty float u\nprope
     }
 
     fn binary_ply(little_endian: bool) -> Vec<u8> {
-        let format = if little_endian { "binary_little_endian" } else { "binary_big_endian" };
+        let format = if little_endian {
+            "binary_little_endian"
+        } else {
+            "binary_big_endian"
+        };
         let mut bytes = format!("ply\nformat {format} 1.0\n").into_bytes();
         bytes.extend(HEADER_VERTEX.as_bytes());
         bytes.extend(b"element face 4\nproperty list uchar uint vertex_indices\nproperty int face_indices\nend_header\n");
-        let f32_bytes = |x: f32| if little_endian { x.to_le_bytes() } else { x.to_be_bytes() };
-        let i32_bytes = |x: i32| if little_endian { x.to_le_bytes() } else { x.to_be_bytes() };
+        let f32_bytes = |x: f32| {
+            if little_endian {
+                x.to_le_bytes()
+            } else {
+                x.to_be_bytes()
+            }
+        };
+        let i32_bytes = |x: i32| {
+            if little_endian {
+                x.to_le_bytes()
+            } else {
+                x.to_be_bytes()
+            }
+        };
         for v in VERTICES {
             for x in v {
                 bytes.extend(f32_bytes(x));
@@ -475,7 +534,10 @@ property float nx\nproperty float ny\nproperty float nz\nproperty float u\nprope
             check(&read_ply(&binary, &location()).unwrap());
         }
         let gz = dir.join("mesh.ply.gz");
-        let mut encoder = flate2::write::GzEncoder::new(std::fs::File::create(&gz).unwrap(), flate2::Compression::fast());
+        let mut encoder = flate2::write::GzEncoder::new(
+            std::fs::File::create(&gz).unwrap(),
+            flate2::Compression::fast(),
+        );
         encoder.write_all(&binary_ply(true)).unwrap();
         encoder.finish().unwrap();
         check(&read_ply(&gz, &location()).unwrap());
@@ -487,37 +549,53 @@ property float nx\nproperty float ny\nproperty float nz\nproperty float u\nprope
         let dir = temporary_directory("quads");
         let path = dir.join("mesh.ply");
         std::fs::write(&path, ascii_ply()).unwrap();
-        let meshes = read_ply(&path, &location()).unwrap().into_meshes(&Transform::IDENTITY, false);
+        let meshes = read_ply(&path, &location())
+            .unwrap()
+            .into_meshes(&Transform::IDENTITY, false);
         let quads = meshes.quads.unwrap();
         let patch = crate::shapes::BilinearPatch::new(0, 0);
         assert!(patch.is_rectangle(&quads));
         assert_eq!(patch.area(&quads), 1.0);
         let ray = crate::math::Ray::new(Vec3::new(0.25, 0.75, 2.0), -Vec3::Z, 0.0);
-        let si = patch.intersect(&quads, &ray, f32::INFINITY).unwrap().interaction;
+        let si = patch
+            .intersect(&quads, &ray, f32::INFINITY)
+            .unwrap()
+            .interaction;
         assert!((si.uv - Vec2::new(0.25, 0.75)).length() < 1e-6, "{}", si.uv);
         assert_eq!(si.n, Vec3::Z);
         assert_eq!(patch.face_index(&quads), 10);
         let triangles = meshes.triangles.unwrap();
         assert_eq!(triangles.triangle_count(), 2);
-        assert_eq!(crate::shapes::Triangle::new(0, 1).face_index(&triangles), 12);
+        assert_eq!(
+            crate::shapes::Triangle::new(0, 1).face_index(&triangles),
+            12
+        );
         let _ = std::fs::remove_dir_all(&dir);
     }
 
     #[test]
     fn broken_files_are_reported() {
         let dir = temporary_directory("broken");
-        let missing = read_ply(&dir.join("nope.ply"), &location()).unwrap_err().to_string();
+        let missing = read_ply(&dir.join("nope.ply"), &location())
+            .unwrap_err()
+            .to_string();
         assert!(missing.contains("nope.ply"), "{missing}");
         let out_of_range = ascii_ply().replace("3 1 2 4 12", "3 1 2 9 12");
         std::fs::write(dir.join("range.ply"), out_of_range).unwrap();
-        let e = read_ply(&dir.join("range.ply"), &location()).unwrap_err().to_string();
+        let e = read_ply(&dir.join("range.ply"), &location())
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("vertex index 9 is out of bounds"), "{e}");
         std::fs::write(dir.join("truncated.ply"), &binary_ply(true)[..300]).unwrap();
-        let e = read_ply(&dir.join("truncated.ply"), &location()).unwrap_err().to_string();
+        let e = read_ply(&dir.join("truncated.ply"), &location())
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("truncated.ply: unable to read"), "{e}");
         let no_faces = "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\nend_header\n0 0 0\n";
         std::fs::write(dir.join("nofaces.ply"), no_faces).unwrap();
-        let e = read_ply(&dir.join("nofaces.ply"), &location()).unwrap_err().to_string();
+        let e = read_ply(&dir.join("nofaces.ply"), &location())
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("no \"face\" element"), "{e}");
         let _ = std::fs::remove_dir_all(&dir);
     }

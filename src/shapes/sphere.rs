@@ -200,7 +200,12 @@ impl Sphere {
         })
     }
 
-    fn interaction(&self, hit: &QuadricHit, wo: Vec3, time: f32) -> crate::interaction::SurfaceInteraction {
+    fn interaction(
+        &self,
+        hit: &QuadricHit,
+        wo: Vec3,
+        time: f32,
+    ) -> crate::interaction::SurfaceInteraction {
         let p = hit.p_object;
         let phi = hit.phi;
         let u = phi / self.phi_max;
@@ -255,7 +260,10 @@ impl Sphere {
         let mut p_object = self.radius * sample_uniform_sphere(u);
         p_object *= self.radius / p_object.length();
         let p_object_error = gamma(5) * p_object.abs();
-        let mut n = self.transform.normal_to_render(p_object).normalize_or_zero();
+        let mut n = self
+            .transform
+            .normal_to_render(p_object)
+            .normalize_or_zero();
         if self.reverse_orientation {
             n = -n;
         }
@@ -270,7 +278,9 @@ impl Sphere {
     }
 
     fn center(&self) -> Vec3 {
-        self.transform.render_from_object.transform_point3(Vec3::ZERO)
+        self.transform
+            .render_from_object
+            .transform_point3(Vec3::ZERO)
     }
 
     /// Whether the (offset) reference point is inside the sphere, where
@@ -302,8 +312,8 @@ impl Sphere {
         }
 
         // The angle at the centre between the axis and the sampled point.
-        let cos_alpha =
-            sin2_theta / sin_theta_max + cos_theta * safe_sqrt(1.0 - sin2_theta / sqr(sin_theta_max));
+        let cos_alpha = sin2_theta / sin_theta_max
+            + cos_theta * safe_sqrt(1.0 - sin2_theta / sqr(sin_theta_max));
         let sin_alpha = safe_sqrt(1.0 - sqr(cos_alpha));
         let phi = u.y * 2.0 * PI;
         let w = spherical_direction(sin_alpha, cos_alpha, phi);
@@ -349,7 +359,14 @@ mod tests {
     use glam::DVec3;
 
     fn sphere_at(center: DVec3, radius: f32) -> Sphere {
-        Sphere::new(&Transform::translate(center), false, radius, -radius, radius, 360.0)
+        Sphere::new(
+            &Transform::translate(center),
+            false,
+            radius,
+            -radius,
+            radius,
+            360.0,
+        )
     }
 
     fn close(a: Vec3, b: Vec3, tolerance: f32) -> bool {
@@ -367,23 +384,39 @@ mod tests {
         assert!(close(si.p, Vec3::new(3.0, 2.0, 3.0), 1e-5));
         assert!(close(si.n, Vec3::X, 1e-6));
         assert!(close(si.wo, Vec3::X, 1e-6));
-        assert!((si.uv - Vec2::new(0.0, 0.5)).abs().max_element() < 1e-5, "{}", si.uv);
+        assert!(
+            (si.uv - Vec2::new(0.0, 0.5)).abs().max_element() < 1e-5,
+            "{}",
+            si.uv
+        );
         assert_eq!(si.time, 0.5);
         // Along −y onto φ = 90°, above the equator: u = 1/4.
         let ray = Ray::new(Vec3::new(1.0, 12.0, 4.0), -Vec3::Y, 0.0);
         let si = s.intersect(&ray, f32::INFINITY).unwrap().interaction;
         let expected_p = Vec3::new(1.0, 2.0 + 3.0f32.sqrt(), 4.0);
         assert!(close(si.p, expected_p, 1e-5));
-        assert!(close(si.n, (expected_p - Vec3::new(1.0, 2.0, 3.0)) / 2.0, 1e-5));
+        assert!(close(
+            si.n,
+            (expected_p - Vec3::new(1.0, 2.0, 3.0)) / 2.0,
+            1e-5
+        ));
         let theta = (0.5f32).acos();
         assert!((si.uv.x - 0.25).abs() < 1e-5 && (si.uv.y - (PI - theta) / PI).abs() < 1e-5);
         // dpdu × dpdv points along the outward normal.
         assert!(si.dpdu.cross(si.dpdv).normalize().dot(si.n) > 0.999);
         // t_max and rays pointing away.
         assert!(s.intersect(&ray, 8.0).is_none());
-        assert!(!s.intersect_p(&Ray::new(Vec3::new(1.0, 12.0, 4.0), Vec3::Y, 0.0), f32::INFINITY));
+        assert!(!s.intersect_p(
+            &Ray::new(Vec3::new(1.0, 12.0, 4.0), Vec3::Y, 0.0),
+            f32::INFINITY
+        ));
         // From inside, the hit is the far side and the normal still points out.
-        let inside = s.intersect(&Ray::new(Vec3::new(1.0, 2.0, 3.0), Vec3::Z, 0.0), f32::INFINITY).unwrap();
+        let inside = s
+            .intersect(
+                &Ray::new(Vec3::new(1.0, 2.0, 3.0), Vec3::Z, 0.0),
+                f32::INFINITY,
+            )
+            .unwrap();
         assert!((inside.t_hit - 2.0).abs() < 1e-5 && close(inside.interaction.n, Vec3::Z, 1e-5));
     }
 
@@ -412,16 +445,31 @@ mod tests {
         // Cut off above z = 0.5: a ray down the axis enters through the hole
         // and hits the bottom from inside.
         let s = Sphere::new(&Transform::IDENTITY, false, 1.0, -1.0, 0.5, 360.0);
-        let hit = s.intersect(&Ray::new(Vec3::new(0.0, 0.0, 5.0), -Vec3::Z, 0.0), f32::INFINITY).unwrap();
+        let hit = s
+            .intersect(
+                &Ray::new(Vec3::new(0.0, 0.0, 5.0), -Vec3::Z, 0.0),
+                f32::INFINITY,
+            )
+            .unwrap();
         assert!((hit.t_hit - 6.0).abs() < 1e-5, "{}", hit.t_hit);
         assert!(hit.interaction.n.z < -0.99);
         // Half sphere (φ ≤ 180°): a ray hitting y < 0 first meets the far wall.
         let half = Sphere::new(&Transform::IDENTITY, false, 1.0, -1.0, 1.0, 180.0);
-        let hit = half.intersect(&Ray::new(Vec3::new(0.3, -5.0, 0.0), Vec3::Y, 0.0), f32::INFINITY).unwrap();
+        let hit = half
+            .intersect(
+                &Ray::new(Vec3::new(0.3, -5.0, 0.0), Vec3::Y, 0.0),
+                f32::INFINITY,
+            )
+            .unwrap();
         assert!(hit.interaction.p.y > 0.9);
         assert!((half.area() - 2.0 * PI).abs() < 1e-5);
         // Both crossings clipped: a miss.
-        assert!(s.intersect(&Ray::new(Vec3::new(0.0, -5.0, 0.8), Vec3::Y, 0.0), f32::INFINITY).is_none());
+        assert!(s
+            .intersect(
+                &Ray::new(Vec3::new(0.0, -5.0, 0.8), Vec3::Y, 0.0),
+                f32::INFINITY
+            )
+            .is_none());
     }
 
     #[test]
@@ -435,7 +483,11 @@ mod tests {
                 rng.range(-1.0, 1.0) as f64,
                 rng.range(-1.0, 1.0) as f64,
             ) * scale as f64;
-            let radius = if scale == 1.0 { rng.range(0.01, 10.0) } else { rng.range(1.0, 100.0) };
+            let radius = if scale == 1.0 {
+                rng.range(0.01, 10.0)
+            } else {
+                rng.range(1.0, 100.0)
+            };
             let axis = rng.direction().as_dvec3();
             let rotation = Transform::rotate(rng.range(0.0, 6.0) as f64, axis).unwrap();
             let t = Transform::translate(center).then(&rotation);

@@ -36,7 +36,10 @@ pub fn spherical_direction(sin_theta: f32, cos_theta: f32, phi: f32) -> Vec3 {
 
 /// Solid angle of the spherical triangle with unit-vector vertices.
 pub fn spherical_triangle_area(a: Vec3, b: Vec3, c: Vec3) -> f32 {
-    (2.0 * a.dot(b.cross(c)).atan2(1.0 + a.dot(b) + a.dot(c) + b.dot(c))).abs()
+    (2.0 * a
+        .dot(b.cross(c))
+        .atan2(1.0 + a.dot(b) + a.dot(c) + b.dot(c)))
+    .abs()
 }
 
 /// Solid angle of the spherical quadrilateral with unit-vector vertices
@@ -166,7 +169,8 @@ pub fn invert_spherical_triangle_sample(v: [Vec3; 3], p: Vec3, w: Vec3) -> Vec2 
         let (Some(n_cpb), Some(n_acp)) = (n_cpb.try_normalize(), n_acp.try_normalize()) else {
             return Vec2::splat(0.5);
         };
-        let sub_area_plus_pi = t.alpha + angle_between(t.n_ab, n_cpb) + angle_between(n_acp, -n_cpb);
+        let sub_area_plus_pi =
+            t.alpha + angle_between(t.n_ab, n_cpb) + angle_between(n_acp, -n_cpb);
         let area_plus_pi = t.alpha + t.beta + t.gamma;
         (sub_area_plus_pi - PI) / (area_plus_pi - PI)
     };
@@ -196,7 +200,11 @@ impl SphericalRectangle {
         let ey_length = ey.length();
         let x = ex / ex_length;
         let y = ey / ey_length;
-        let mut frame = Frame { x, y, z: x.cross(y) };
+        let mut frame = Frame {
+            x,
+            y,
+            z: x.cross(y),
+        };
         let d = frame.to_local(corner - p);
         let mut z0 = d.z;
         // Make z point away from the rectangle.
@@ -240,7 +248,13 @@ impl SphericalRectangle {
 /// is uniformly distributed over the rectangle's solid angle, and the
 /// density (1/solid angle; 0 when the rectangle is seen edge-on). Tiny
 /// solid angles fall back to the (s, t) point directly, as pbrt does.
-pub fn sample_spherical_rectangle(p: Vec3, corner: Vec3, ex: Vec3, ey: Vec3, u: Vec2) -> (Vec3, f32) {
+pub fn sample_spherical_rectangle(
+    p: Vec3,
+    corner: Vec3,
+    ex: Vec3,
+    ey: Vec3,
+    u: Vec2,
+) -> (Vec3, f32) {
     let r = SphericalRectangle::new(p, corner, ex, ey);
     if r.solid_angle <= 0.0 || r.solid_angle.is_nan() {
         return (corner + u.x * ex + u.y * ey, 0.0);
@@ -285,7 +299,10 @@ pub fn invert_spherical_rectangle_sample(
     let r = SphericalRectangle::new(p, corner, ex, ey);
     if r.solid_angle < 1e-3 {
         let q = p_rectangle - corner;
-        return Vec2::new(q.dot(ex) / ex.length_squared(), q.dot(ey) / ey.length_squared());
+        return Vec2::new(
+            q.dot(ex) / ex.length_squared(),
+            q.dot(ey) / ey.length_squared(),
+        );
     }
     let local = r.frame.to_local(p_rectangle - p);
     let mut xu = clamp(local.x, r.x0, r.x1);
@@ -299,7 +316,8 @@ pub fn invert_spherical_rectangle_sample(
     let fu_sq = inverse_cu_sq - sqr(r.b0);
     let fu = fu_sq.sqrt().copysign(xu);
     let root = safe_sqrt(difference_of_products(r.b0, r.b0, r.b1, r.b1) + fu_sq);
-    let mut au = (-(r.b1 * fu) - (r.b0 * root).copysign(fu * r.b0)).atan2(r.b0 * r.b1 - root * fu.abs());
+    let mut au =
+        (-(r.b1 * fu) - (r.b0 * root).copysign(fu * r.b0)).atan2(r.b0 * r.b1 - root * fu.abs());
     if au > 0.0 {
         au -= 2.0 * PI;
     }
@@ -315,7 +333,10 @@ pub fn invert_spherical_rectangle_sample(
     let yv_sq = sqr(yv);
     let spread = (h0 - h1).abs() * (yv_sq * (dd_sq + yv_sq)).sqrt() / (dd_sq + yv_sq);
     let base = difference_of_products(h0, h0, h0, h1);
-    let candidates = [(base - spread) / sqr(h0 - h1), (base + spread) / sqr(h0 - h1)];
+    let candidates = [
+        (base - spread) / sqr(h0 - h1),
+        (base + spread) / sqr(h0 - h1),
+    ];
     // Keep the root whose y reproduces the point's.
     let y_of = |u1: f32| {
         let hv = lerp(u1, h0, h1);
@@ -352,13 +373,18 @@ mod tests {
 
     #[test]
     fn spherical_triangle_samples_land_on_the_triangle_and_invert() {
-        let v = [Vec3::new(-1.0, -0.5, 2.0), Vec3::new(1.5, -0.2, 2.5), Vec3::new(0.2, 1.0, 1.5)];
+        let v = [
+            Vec3::new(-1.0, -0.5, 2.0),
+            Vec3::new(1.5, -0.2, 2.5),
+            Vec3::new(0.2, 1.0, 1.5),
+        ];
         let p = Vec3::new(0.1, 0.0, -0.3);
-        let expected = 1.0 / spherical_triangle_area(
-            (v[0] - p).normalize(),
-            (v[1] - p).normalize(),
-            (v[2] - p).normalize(),
-        );
+        let expected = 1.0
+            / spherical_triangle_area(
+                (v[0] - p).normalize(),
+                (v[1] - p).normalize(),
+                (v[2] - p).normalize(),
+            );
         for u in grid(40) {
             let (b, pdf) = sample_spherical_triangle(v, p, u);
             assert!((pdf - expected).abs() < 1e-3 * expected);
@@ -381,7 +407,10 @@ mod tests {
             let local = q - corner;
             let s = local.dot(ex) / ex.length_squared();
             let t = local.dot(ey) / ey.length_squared();
-            assert!((-1e-4..=1.0001).contains(&s) && (-1e-4..=1.0001).contains(&t), "{s} {t}");
+            assert!(
+                (-1e-4..=1.0001).contains(&s) && (-1e-4..=1.0001).contains(&t),
+                "{s} {t}"
+            );
             let back = invert_spherical_rectangle_sample(p, corner, ex, ey, q);
             assert!((back - u).abs().max_element() < 2e-3, "{u} -> {back}");
         }

@@ -7,8 +7,8 @@
 //! the opposite normal to pbrt-v4 for the `orientation_is_authoritative`
 //! flag, so the shapes use [`set_shading_geometry`] here instead.)
 
-use crate::interaction::{Shading, SurfaceInteraction};
 use super::numeric::difference_of_products;
+use crate::interaction::{Shading, SurfaceInteraction};
 use glam::{Vec2, Vec3};
 
 /// What a shape knows about a surface point before the shading frame is
@@ -158,11 +158,27 @@ mod tests {
     #[test]
     fn authoritative_shading_normal_moves_the_geometric_normal() {
         let mut si = surface_interaction(&point(), Vec3::Z, 0.0, false);
-        set_shading_geometry(&mut si, -Vec3::Z, Vec3::X, Vec3::Y, Vec3::ZERO, Vec3::ZERO, true);
+        set_shading_geometry(
+            &mut si,
+            -Vec3::Z,
+            Vec3::X,
+            Vec3::Y,
+            Vec3::ZERO,
+            Vec3::ZERO,
+            true,
+        );
         assert_eq!(si.n, -Vec3::Z);
         assert_eq!(si.shading.n, -Vec3::Z);
         let mut si = surface_interaction(&point(), Vec3::Z, 0.0, false);
-        set_shading_geometry(&mut si, -Vec3::Z, Vec3::X, Vec3::Y, Vec3::ZERO, Vec3::ZERO, false);
+        set_shading_geometry(
+            &mut si,
+            -Vec3::Z,
+            Vec3::X,
+            Vec3::Y,
+            Vec3::ZERO,
+            Vec3::ZERO,
+            false,
+        );
         assert_eq!(si.n, Vec3::Z);
         assert_eq!(si.shading.n, Vec3::Z);
     }

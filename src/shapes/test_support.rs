@@ -103,8 +103,11 @@ impl BoundingCone {
         let cos_theta = 1.0 - u.x * (1.0 - self.cos_theta_max);
         let sin_theta = (1.0 - cos_theta * cos_theta).max(0.0).sqrt();
         let phi = 2.0 * std::f32::consts::PI * u.y;
-        self.frame
-            .from_local(Vec3::new(sin_theta * phi.cos(), sin_theta * phi.sin(), cos_theta))
+        self.frame.from_local(Vec3::new(
+            sin_theta * phi.cos(),
+            sin_theta * phi.sin(),
+            cos_theta,
+        ))
     }
 
     /// A positive test function that varies across the cone by O(1), both
@@ -112,7 +115,9 @@ impl BoundingCone {
     /// from the axis, s ∈ [−1, 1] the normalised offset along the frame's x.
     pub fn test_function(&self, w: Vec3) -> f64 {
         let radial = (1.0 - w.dot(self.axis)) / (1.0 - self.cos_theta_max);
-        let sin_theta_max = (1.0 - self.cos_theta_max * self.cos_theta_max).max(0.0).sqrt();
+        let sin_theta_max = (1.0 - self.cos_theta_max * self.cos_theta_max)
+            .max(0.0)
+            .sqrt();
         let sideways = if self.cos_theta_max > 0.0 {
             w.dot(self.frame.x) / sin_theta_max
         } else {
@@ -145,7 +150,11 @@ pub fn check_sample_densities(
             weighted.push(0.0);
             continue;
         };
-        assert!(sample.pdf > 0.0 && sample.pdf.is_finite(), "sample {i}: pdf {}", sample.pdf);
+        assert!(
+            sample.pdf > 0.0 && sample.pdf.is_finite(),
+            "sample {i}: pdf {}",
+            sample.pdf
+        );
         let wi = (sample.p - ctx.p).normalize();
         inverse_pdfs.push(1.0 / sample.pdf as f64);
         weighted.push(f(wi) / sample.pdf as f64);
@@ -164,8 +173,14 @@ pub fn check_sample_densities(
             compared += 1;
         }
     }
-    assert!(misses <= samples / 1000, "{misses} sampled directions miss the shape");
-    assert!(compared > samples / 2, "only {compared} samples were first hits");
+    assert!(
+        misses <= samples / 1000,
+        "{misses} sampled directions miss the shape"
+    );
+    assert!(
+        compared > samples / 2,
+        "only {compared} samples were first hits"
+    );
     (inverse_pdfs, weighted)
 }
 

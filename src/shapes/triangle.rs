@@ -28,13 +28,15 @@
 //! density regardless; its callers only ask about directions that hit).
 
 use super::mesh::TriangleMesh;
-use super::spherical::{invert_spherical_triangle_sample, sample_spherical_triangle, spherical_triangle_area};
 use super::numeric::{difference_of_products, difference_of_products_vector};
+use super::spherical::{
+    invert_spherical_triangle_sample, sample_spherical_triangle, spherical_triangle_area,
+};
 use super::surface::{face_forward, set_shading_geometry, surface_interaction, SurfacePoint};
 use super::warps::{bilinear_pdf, sample_bilinear};
 use super::{
-    area_sample_to_solid_angle, solid_angle_pdf_of_hit, ShapeIntersection, ShapeSample, ShapeSampleContext,
-    ShapeStorage,
+    area_sample_to_solid_angle, solid_angle_pdf_of_hit, ShapeIntersection, ShapeSample,
+    ShapeSampleContext, ShapeStorage,
 };
 use crate::interaction::SurfaceInteraction;
 use crate::math::frame::coordinate_system;
@@ -88,7 +90,13 @@ fn permute(v: Vec3, x: usize, y: usize, z: usize) -> Vec3 {
 /// +z from the origin, the 2D edge functions of the projected vertices
 /// decide the hit (recomputed in f64 when one is exactly 0), and t must be
 /// provably positive given its error bound.
-pub fn intersect_triangle(ray: &Ray, t_max: f32, p0: Vec3, p1: Vec3, p2: Vec3) -> Option<TriangleHit> {
+pub fn intersect_triangle(
+    ray: &Ray,
+    t_max: f32,
+    p0: Vec3,
+    p1: Vec3,
+    p2: Vec3,
+) -> Option<TriangleHit> {
     if (p2 - p0).cross(p1 - p0).length_squared() == 0.0 {
         return None;
     }
@@ -195,7 +203,10 @@ impl Triangle {
     }
 
     pub fn face_index(&self, mesh: &TriangleMesh) -> i32 {
-        mesh.face_indices.get(self.index as usize).copied().unwrap_or(0)
+        mesh.face_indices
+            .get(self.index as usize)
+            .copied()
+            .unwrap_or(0)
     }
 
     /// Solid angle subtended at `p`.
@@ -213,7 +224,12 @@ impl Triangle {
         intersect_triangle(ray, t_max, p0, p1, p2).is_some()
     }
 
-    pub fn intersect(&self, mesh: &TriangleMesh, ray: &Ray, t_max: f32) -> Option<ShapeIntersection> {
+    pub fn intersect(
+        &self,
+        mesh: &TriangleMesh,
+        ray: &Ray,
+        t_max: f32,
+    ) -> Option<ShapeIntersection> {
         let [p0, p1, p2] = self.positions(mesh);
         let hit = intersect_triangle(ray, t_max, p0, p1, p2)?;
         let mut interaction = self.interaction(mesh, &hit, ray.time, -ray.direction);
@@ -226,7 +242,13 @@ impl Triangle {
 
     /// The surface interaction at barycentrics `hit` (pbrt-v4's
     /// `Triangle::InteractionFromIntersection`).
-    pub fn interaction(&self, mesh: &TriangleMesh, hit: &TriangleHit, time: f32, wo: Vec3) -> SurfaceInteraction {
+    pub fn interaction(
+        &self,
+        mesh: &TriangleMesh,
+        hit: &TriangleHit,
+        time: f32,
+        wo: Vec3,
+    ) -> SurfaceInteraction {
         let vertices = mesh.triangle(self.index);
         let [p0, p1, p2] = self.positions(mesh);
         let uv = self.uvs(mesh);
@@ -376,7 +398,12 @@ impl Triangle {
         [w1, w1, w0, w2]
     }
 
-    pub fn sample_from(&self, mesh: &TriangleMesh, ctx: &ShapeSampleContext, u: Vec2) -> Option<ShapeSample> {
+    pub fn sample_from(
+        &self,
+        mesh: &TriangleMesh,
+        ctx: &ShapeSampleContext,
+        u: Vec2,
+    ) -> Option<ShapeSample> {
         let solid_angle = self.solid_angle(mesh, ctx.p);
         if !(MIN_SPHERICAL_SAMPLE_AREA..=MAX_SPHERICAL_SAMPLE_AREA).contains(&solid_angle) {
             return area_sample_to_solid_angle(self.sample_area(mesh, u)?, ctx);
@@ -388,7 +415,8 @@ impl Triangle {
             u = sample_bilinear(u, w);
             pdf = bilinear_pdf(u, w);
         }
-        let (b, triangle_pdf) = sample_spherical_triangle(self.positions(mesh), ctx.p, Vec2::from(u));
+        let (b, triangle_pdf) =
+            sample_spherical_triangle(self.positions(mesh), ctx.p, Vec2::from(u));
         if triangle_pdf == 0.0 {
             return None;
         }
@@ -419,7 +447,9 @@ mod tests {
     use super::*;
     use crate::math::Transform;
     use crate::shapes::mesh::MeshData;
-    use crate::shapes::test_support::{check_sample_densities, check_solid_angle_sampling, TestRng};
+    use crate::shapes::test_support::{
+        check_sample_densities, check_solid_angle_sampling, TestRng,
+    };
     use crate::shapes::Shape;
     use glam::DVec3;
 
@@ -446,7 +476,11 @@ mod tests {
 
     #[test]
     fn hits_match_the_analytic_answers() {
-        let mesh = single(UNIT, &Transform::translate(DVec3::new(0.0, 0.0, 2.0)), false);
+        let mesh = single(
+            UNIT,
+            &Transform::translate(DVec3::new(0.0, 0.0, 2.0)),
+            false,
+        );
         let t = Triangle::new(0, 0);
         let ray = Ray::new(Vec3::new(0.25, 0.25, 5.0), -Vec3::Z, 0.0);
         let hit = t.intersect(&mesh, &ray, f32::INFINITY).unwrap();
@@ -459,9 +493,17 @@ mod tests {
         assert_eq!(si.dpdu, Vec3::X);
         assert_eq!(si.dpdv, Vec3::new(-1.0, 1.0, 0.0));
         assert!(t.intersect(&mesh, &ray, 2.9).is_none());
-        assert!(!t.intersect_p(&mesh, &Ray::new(Vec3::new(0.6, 0.6, 5.0), -Vec3::Z, 0.0), f32::INFINITY));
+        assert!(!t.intersect_p(
+            &mesh,
+            &Ray::new(Vec3::new(0.6, 0.6, 5.0), -Vec3::Z, 0.0),
+            f32::INFINITY
+        ));
         // Both sides are hit.
-        let below = t.intersect(&mesh, &Ray::new(Vec3::new(0.1, 0.2, -1.0), Vec3::Z, 0.0), f32::INFINITY);
+        let below = t.intersect(
+            &mesh,
+            &Ray::new(Vec3::new(0.1, 0.2, -1.0), Vec3::Z, 0.0),
+            f32::INFINITY,
+        );
         assert!((below.unwrap().t_hit - 3.0).abs() < 1e-6);
     }
 
@@ -473,19 +515,27 @@ mod tests {
             MeshData {
                 vertex_indices: vec![0, 1, 2],
                 positions: UNIT.to_vec(),
-                uvs: vec![Vec2::new(0.0, 0.0), Vec2::new(2.0, 0.0), Vec2::new(0.0, 4.0)],
+                uvs: vec![
+                    Vec2::new(0.0, 0.0),
+                    Vec2::new(2.0, 0.0),
+                    Vec2::new(0.0, 4.0),
+                ],
                 normals: vec![-Vec3::Z, Vec3::new(0.0, 1.0, -1.0), -Vec3::Z],
                 ..MeshData::default()
             },
         );
         let ray = Ray::new(Vec3::new(0.5, 0.25, 1.0), -Vec3::Z, 0.0);
-        let si = Triangle::new(0, 0).intersect(&mesh, &ray, f32::INFINITY).unwrap().interaction;
+        let si = Triangle::new(0, 0)
+            .intersect(&mesh, &ray, f32::INFINITY)
+            .unwrap()
+            .interaction;
         assert_eq!(si.uv, Vec2::new(1.0, 1.0));
         assert_eq!(si.dpdu, Vec3::new(0.5, 0.0, 0.0));
         assert_eq!(si.dpdv, Vec3::new(0.0, 0.25, 0.0));
         // The normals point down: the geometric normal follows them.
         assert_eq!(si.n, -Vec3::Z);
-        let expected_ns = (0.25 * -Vec3::Z + 0.5 * Vec3::new(0.0, 1.0, -1.0) + 0.25 * -Vec3::Z).normalize();
+        let expected_ns =
+            (0.25 * -Vec3::Z + 0.5 * Vec3::new(0.0, 1.0, -1.0) + 0.25 * -Vec3::Z).normalize();
         assert!((si.shading.n - expected_ns).length() < 1e-6);
         assert!(si.shading.dpdu.dot(si.shading.n).abs() < 1e-6);
         assert!(si.shading.dndu != Vec3::ZERO || si.shading.dndv != Vec3::ZERO);
@@ -497,8 +547,13 @@ mod tests {
         let mirror = Transform::scale(DVec3::new(1.0, 1.0, -1.0)).unwrap();
         let normal = |t: &Transform, reverse| {
             let mesh = single(UNIT, t, reverse);
-            let si = Triangle::new(0, 0).intersect(&mesh, &ray, f32::INFINITY).unwrap().interaction;
-            let sample = Triangle::new(0, 0).sample_area(&mesh, Vec2::splat(0.3)).unwrap();
+            let si = Triangle::new(0, 0)
+                .intersect(&mesh, &ray, f32::INFINITY)
+                .unwrap()
+                .interaction;
+            let sample = Triangle::new(0, 0)
+                .sample_area(&mesh, Vec2::splat(0.3))
+                .unwrap();
             assert_eq!(si.n, sample.n);
             si.n.z
         };
@@ -511,7 +566,11 @@ mod tests {
 
     #[test]
     fn degenerate_triangles_are_never_hit() {
-        let mesh = single([Vec3::ZERO, Vec3::X, 2.0 * Vec3::X], &Transform::IDENTITY, false);
+        let mesh = single(
+            [Vec3::ZERO, Vec3::X, 2.0 * Vec3::X],
+            &Transform::IDENTITY,
+            false,
+        );
         let ray = Ray::new(Vec3::new(0.5, 0.0, 1.0), -Vec3::Z, 0.0);
         assert!(!Triangle::new(0, 0).intersect_p(&mesh, &ray, f32::INFINITY));
         // Degenerate (u,v) still gives a usable frame.
@@ -526,7 +585,11 @@ mod tests {
             },
         );
         let si = Triangle::new(0, 0)
-            .intersect(&mesh, &Ray::new(Vec3::new(0.2, 0.2, 1.0), -Vec3::Z, 0.0), f32::INFINITY)
+            .intersect(
+                &mesh,
+                &Ray::new(Vec3::new(0.2, 0.2, 1.0), -Vec3::Z, 0.0),
+                f32::INFINITY,
+            )
             .unwrap()
             .interaction;
         assert!(si.dpdu.cross(si.dpdv).normalize().dot(Vec3::Z).abs() > 0.999);
@@ -538,7 +601,10 @@ mod tests {
         for j in 0..=n {
             for i in 0..=n {
                 let z = 0.2 * rng.range(-1.0, 1.0);
-                positions.push(offset + scale * Vec3::new(i as f32 / n as f32, j as f32 / n as f32, z / n as f32));
+                positions.push(
+                    offset
+                        + scale * Vec3::new(i as f32 / n as f32, j as f32 / n as f32, z / n as f32),
+                );
             }
         }
         let mut indices = Vec::new();
@@ -569,8 +635,14 @@ mod tests {
         let mut rng = TestRng::new(21);
         for (scale, offset) in [(1.0, Vec3::ZERO), (3.0, Vec3::new(1e4, -2e4, 5e3))] {
             let mesh = grid_mesh(4, scale, offset, &mut rng);
-            let triangles: Vec<Triangle> = (0..mesh.triangle_count() as u32).map(|i| Triangle::new(0, i)).collect();
-            let hits_any = |ray: &Ray| triangles.iter().any(|t| t.intersect_p(&mesh, ray, f32::INFINITY));
+            let triangles: Vec<Triangle> = (0..mesh.triangle_count() as u32)
+                .map(|i| Triangle::new(0, i))
+                .collect();
+            let hits_any = |ray: &Ray| {
+                triangles
+                    .iter()
+                    .any(|t| t.intersect_p(&mesh, ray, f32::INFINITY))
+            };
             let mut tested = 0;
             for _ in 0..20_000 {
                 // A point on an interior edge or at an interior vertex.
@@ -581,7 +653,11 @@ mod tests {
                     let local = (p - offset) / scale;
                     local.x > 1e-3 && local.x < 0.999 && local.y > 1e-3 && local.y < 0.999
                 };
-                let along = if rng.uniform() < 0.2 { 0.0 } else { rng.uniform() };
+                let along = if rng.uniform() < 0.2 {
+                    0.0
+                } else {
+                    rng.uniform()
+                };
                 let target = a + along * (b - a);
                 if !interior(target) || v[0] == v[1] {
                     continue;
@@ -630,7 +706,9 @@ mod tests {
                 ..MeshData::default()
             },
         );
-        let triangles: Vec<Triangle> = (0..mesh.triangle_count() as u32).map(|i| Triangle::new(0, i)).collect();
+        let triangles: Vec<Triangle> = (0..mesh.triangle_count() as u32)
+            .map(|i| Triangle::new(0, i))
+            .collect();
         let directions = [
             -Vec3::Z,
             Vec3::Z,
@@ -645,7 +723,10 @@ mod tests {
                 let target = Vec3::new(i as f32 / (2 * n) as f32, j as f32 / (2 * n) as f32, 0.0);
                 for d in directions {
                     let ray = Ray::new(target - 4.0 * d, d, 0.0);
-                    let hits = triangles.iter().filter(|t| t.intersect_p(&mesh, &ray, f32::INFINITY)).count();
+                    let hits = triangles
+                        .iter()
+                        .filter(|t| t.intersect_p(&mesh, &ray, f32::INFINITY))
+                        .count();
                     assert!(hits >= 1, "ray along {d} at {target} slipped through");
                     tested += 1;
                 }
@@ -660,27 +741,46 @@ mod tests {
         for case in 0..10_000 {
             let scale = if case % 2 == 0 { 1.0 } else { 1e4 };
             let center = rng.direction() * scale;
-            let size = if scale == 1.0 { rng.range(0.01, 5.0) } else { rng.range(1.0, 100.0) };
+            let size = if scale == 1.0 {
+                rng.range(0.01, 5.0)
+            } else {
+                rng.range(1.0, 100.0)
+            };
             let p = [0, 1, 2].map(|_| center + size * rng.direction());
             let mesh = single(p, &Transform::IDENTITY, false);
             let t = Triangle::new(0, 0);
             let b = sample_uniform_triangle(rng.uniform2());
             let target = b[0] * p[0] + b[1] * p[1] + b[2] * p[2];
             let origin = target + rng.direction() * size * rng.range(0.1, 10.0);
-            let Some(hit) = t.intersect(&mesh, &Ray::new(origin, target - origin, 0.0), f32::INFINITY) else {
+            let Some(hit) = t.intersect(
+                &mesh,
+                &Ray::new(origin, target - origin, 0.0),
+                f32::INFINITY,
+            ) else {
                 continue;
             };
             let si = hit.interaction;
             for _ in 0..2 {
                 let w = rng.direction();
-                assert!(!t.intersect_p(&mesh, &si.spawn_ray(w), f32::INFINITY), "case {case}: re-hit");
+                assert!(
+                    !t.intersect_p(&mesh, &si.spawn_ray(w), f32::INFINITY),
+                    "case {case}: re-hit"
+                );
             }
         }
     }
 
     #[test]
     fn area_samples_are_uniform() {
-        let mesh = single([Vec3::new(1.0, 0.0, 0.0), Vec3::new(3.0, 1.0, 0.0), Vec3::new(0.0, 2.0, 1.0)], &Transform::IDENTITY, false);
+        let mesh = single(
+            [
+                Vec3::new(1.0, 0.0, 0.0),
+                Vec3::new(3.0, 1.0, 0.0),
+                Vec3::new(0.0, 2.0, 1.0),
+            ],
+            &Transform::IDENTITY,
+            false,
+        );
         let t = Triangle::new(0, 0);
         let mut rng = TestRng::new(29);
         let n = 30_000;
@@ -696,7 +796,11 @@ mod tests {
 
     #[test]
     fn solid_angle_sampling_matches_the_spherical_triangle() {
-        let p = [Vec3::new(-1.0, -0.5, 2.0), Vec3::new(1.5, -0.2, 2.5), Vec3::new(0.2, 1.0, 1.5)];
+        let p = [
+            Vec3::new(-1.0, -0.5, 2.0),
+            Vec3::new(1.5, -0.2, 2.5),
+            Vec3::new(0.2, 1.0, 1.5),
+        ];
         let storage = storage_with(single(p, &Transform::IDENTITY, false));
         let shape = Shape::Triangle(Triangle::new(0, 0));
         let origin = Vec3::new(0.1, 0.0, -0.3);
@@ -709,20 +813,45 @@ mod tests {
         assert_eq!(expected, analytic);
         // From a surface point (cos θ warp) and from a point in a medium.
         let tilted = Vec3::new(0.6, 0.0, 0.8);
-        let surface = ShapeSampleContext { p: origin, p_error: Vec3::ZERO, n: tilted, ns: tilted, time: 0.0 };
+        let surface = ShapeSampleContext {
+            p: origin,
+            p_error: Vec3::ZERO,
+            n: tilted,
+            ns: tilted,
+            time: 0.0,
+        };
         check_solid_angle_sampling(&shape, &storage, &surface, expected, 31);
-        check_solid_angle_sampling(&shape, &storage, &ShapeSampleContext::in_medium(origin, 0.0), expected, 32);
+        check_solid_angle_sampling(
+            &shape,
+            &storage,
+            &ShapeSampleContext::in_medium(origin, 0.0),
+            expected,
+            32,
+        );
         // Tiny (area sampling below 2e-4 sr) and huge (above 6.22 sr) triangles.
-        let far = ShapeSampleContext { p: Vec3::new(0.0, 0.0, -200.0), ..surface };
+        let far = ShapeSampleContext {
+            p: Vec3::new(0.0, 0.0, -200.0),
+            ..surface
+        };
         let far_expected = Triangle::new(0, 0).solid_angle(&storage.triangle_meshes[0], far.p);
         assert!(far_expected < MIN_SPHERICAL_SAMPLE_AREA);
         check_solid_angle_sampling(&shape, &storage, &far, far_expected, 33);
         let big = storage_with(single(
-            [Vec3::new(-100.0, -100.0, 0.0), Vec3::new(200.0, -100.0, 0.0), Vec3::new(-100.0, 200.0, 0.0)],
+            [
+                Vec3::new(-100.0, -100.0, 0.0),
+                Vec3::new(200.0, -100.0, 0.0),
+                Vec3::new(-100.0, 200.0, 0.0),
+            ],
             &Transform::IDENTITY,
             false,
         ));
-        let close = ShapeSampleContext { p: Vec3::new(0.0, 0.0, 0.05), p_error: Vec3::ZERO, n: Vec3::Z, ns: Vec3::Z, time: 0.0 };
+        let close = ShapeSampleContext {
+            p: Vec3::new(0.0, 0.0, 0.05),
+            p_error: Vec3::ZERO,
+            n: Vec3::Z,
+            ns: Vec3::Z,
+            time: 0.0,
+        };
         let close_expected = Triangle::new(0, 0).solid_angle(&big.triangle_meshes[0], close.p);
         assert!(close_expected > MAX_SPHERICAL_SAMPLE_AREA);
         // (Area sampling from so close has too heavy a tail for E[1/pdf] to

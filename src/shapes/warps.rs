@@ -80,7 +80,10 @@ mod tests {
                 let u = (i as f32 + 0.5) / n as f32;
                 let x = sample_linear(u, a, b);
                 assert!((0.0..1.0).contains(&x));
-                assert!((invert_linear_sample(x, a, b) - u).abs() < 1e-4, "{a} {b} {u}");
+                assert!(
+                    (invert_linear_sample(x, a, b) - u).abs() < 1e-4,
+                    "{a} {b} {u}"
+                );
                 integral += linear_pdf(u, a, b) / n as f32;
             }
             assert!((integral - 1.0).abs() < 1e-3, "{integral}");

@@ -25,7 +25,12 @@ pub enum FloatTexture {
     /// `tex × scale`.
     Scale(Box<FloatTexture>, Box<FloatTexture>),
     /// 2D checkerboard over (u, v) scaled by `uscale`, `vscale`.
-    Checkerboard { tex1: Box<FloatTexture>, tex2: Box<FloatTexture>, scale: Vec2, delta: Vec2 },
+    Checkerboard {
+        tex1: Box<FloatTexture>,
+        tex2: Box<FloatTexture>,
+        scale: Vec2,
+        delta: Vec2,
+    },
 }
 
 /// A spectrum-valued texture.
@@ -33,7 +38,12 @@ pub enum FloatTexture {
 pub enum SpectrumTexture {
     Constant(Spectrum),
     Scale(Box<SpectrumTexture>, Box<FloatTexture>),
-    Checkerboard { tex1: Box<SpectrumTexture>, tex2: Box<SpectrumTexture>, scale: Vec2, delta: Vec2 },
+    Checkerboard {
+        tex1: Box<SpectrumTexture>,
+        tex2: Box<SpectrumTexture>,
+        scale: Vec2,
+        delta: Vec2,
+    },
 }
 
 fn checker(ctx: &TextureEvalContext, scale: Vec2, delta: Vec2) -> bool {
@@ -46,7 +56,12 @@ impl FloatTexture {
         match self {
             FloatTexture::Constant(v) => *v,
             FloatTexture::Scale(t, s) => t.evaluate(ctx) * s.evaluate(ctx),
-            FloatTexture::Checkerboard { tex1, tex2, scale, delta } => {
+            FloatTexture::Checkerboard {
+                tex1,
+                tex2,
+                scale,
+                delta,
+            } => {
                 if checker(ctx, *scale, *delta) {
                     tex1.evaluate(ctx)
                 } else {
@@ -58,11 +73,20 @@ impl FloatTexture {
 }
 
 impl SpectrumTexture {
-    pub fn evaluate(&self, ctx: &TextureEvalContext, lambda: &SampledWavelengths) -> SampledSpectrum {
+    pub fn evaluate(
+        &self,
+        ctx: &TextureEvalContext,
+        lambda: &SampledWavelengths,
+    ) -> SampledSpectrum {
         match self {
             SpectrumTexture::Constant(s) => s.sample(lambda),
             SpectrumTexture::Scale(t, s) => t.evaluate(ctx, lambda) * s.evaluate(ctx),
-            SpectrumTexture::Checkerboard { tex1, tex2, scale, delta } => {
+            SpectrumTexture::Checkerboard {
+                tex1,
+                tex2,
+                scale,
+                delta,
+            } => {
                 if checker(ctx, *scale, *delta) {
                     tex1.evaluate(ctx, lambda)
                 } else {
@@ -106,11 +130,16 @@ pub struct TextureParams<'a> {
 
 impl TextureParams<'_> {
     pub fn float_texture(&self, name: &str, default: f32) -> Result<FloatTexture> {
-        Ok(self.float_texture_opt(name)?.unwrap_or(FloatTexture::Constant(default)))
+        Ok(self
+            .float_texture_opt(name)?
+            .unwrap_or(FloatTexture::Constant(default)))
     }
 
     pub fn float_texture_opt(&self, name: &str) -> Result<Option<FloatTexture>> {
-        let Some(p) = self.params.find(name, &[ParamType::Float, ParamType::Texture])? else {
+        let Some(p) = self
+            .params
+            .find(name, &[ParamType::Float, ParamType::Texture])?
+        else {
             return Ok(None);
         };
         if p.ty == ParamType::Float {
@@ -122,15 +151,35 @@ impl TextureParams<'_> {
         let tex_name = p.strings().first().cloned().unwrap_or_default();
         match self.textures.float.get(&tex_name) {
             Some(t) => Ok(Some(t.clone())),
-            None => scene_error(format!("float texture \"{tex_name}\" for \"{name}\" is not defined"), &p.location),
+            None => scene_error(
+                format!("float texture \"{tex_name}\" for \"{name}\" is not defined"),
+                &p.location,
+            ),
         }
     }
 
-    pub fn spectrum_texture(&self, name: &str, default: Option<Spectrum>, kind: SpectrumKind) -> Result<Option<SpectrumTexture>> {
-        if let Some(p) = self.params.find(name, &[ParamType::Texture, ParamType::Rgb, ParamType::Spectrum, ParamType::Blackbody])? {
+    pub fn spectrum_texture(
+        &self,
+        name: &str,
+        default: Option<Spectrum>,
+        kind: SpectrumKind,
+    ) -> Result<Option<SpectrumTexture>> {
+        if let Some(p) = self.params.find(
+            name,
+            &[
+                ParamType::Texture,
+                ParamType::Rgb,
+                ParamType::Spectrum,
+                ParamType::Blackbody,
+            ],
+        )? {
             if p.ty == ParamType::Texture {
                 let tex_name = p.strings().first().cloned().unwrap_or_default();
-                return match self.textures.spectrum.get(&(tex_name.clone(), kind_key(kind))) {
+                return match self
+                    .textures
+                    .spectrum
+                    .get(&(tex_name.clone(), kind_key(kind)))
+                {
                     Some(t) => Ok(Some(t.clone())),
                     None => scene_error(
                         format!("spectrum texture \"{tex_name}\" for \"{name}\" is not defined"),
@@ -139,7 +188,13 @@ impl TextureParams<'_> {
                 };
             }
         }
-        let s = spectrum_param(self.params, name, kind, self.color_space, self.base_directory)?;
+        let s = spectrum_param(
+            self.params,
+            name,
+            kind,
+            self.color_space,
+            self.base_directory,
+        )?;
         Ok(s.or(default).map(SpectrumTexture::Constant))
     }
 }
@@ -152,17 +207,31 @@ pub fn create_texture(
     base_directory: &Path,
     kind: SpectrumKind,
 ) -> Result<Option<(Option<FloatTexture>, Option<SpectrumTexture>)>> {
-    let tp = TextureParams { params: &entity.params, color_space: entity.color_space, textures, base_directory };
+    let tp = TextureParams {
+        params: &entity.params,
+        color_space: entity.color_space,
+        textures,
+        base_directory,
+    };
     let loc = &entity.location.0;
     let uv_scale = |p: &ParamSet| -> Result<(Vec2, Vec2)> {
         Ok((
-            Vec2::new(p.float("uscale", 1.0)? as f32, p.float("vscale", 1.0)? as f32),
-            Vec2::new(p.float("udelta", 0.0)? as f32, p.float("vdelta", 0.0)? as f32),
+            Vec2::new(
+                p.float("uscale", 1.0)? as f32,
+                p.float("vscale", 1.0)? as f32,
+            ),
+            Vec2::new(
+                p.float("udelta", 0.0)? as f32,
+                p.float("vdelta", 0.0)? as f32,
+            ),
         ))
     };
     let mapping = entity.params.string("mapping", "uv")?;
     if mapping != "uv" {
-        return scene_error(format!("texture mapping \"{mapping}\" is not supported yet (supported: uv)"), loc);
+        return scene_error(
+            format!("texture mapping \"{mapping}\" is not supported yet (supported: uv)"),
+            loc,
+        );
     }
     let result = match (entity.kind.as_str(), value) {
         ("constant", TextureValue::Float) => (Some(tp.float_texture("value", 1.0)?), None),
