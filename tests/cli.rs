@@ -26,7 +26,7 @@ fn write_temp(name: &str, text: &str) -> PathBuf {
 #[test]
 fn summary_of_the_shipped_scene() {
     let scene = concat!(env!("CARGO_MANIFEST_DIR"), "/pbrt-scenes/hair-strands.pbrt");
-    let (ok, stdout, _) = rpbrt(&[scene]);
+    let (ok, stdout, _) = rpbrt(&["--check", scene]);
     assert!(ok);
     assert!(
         stdout.contains("curve: 4") && stdout.contains("sphere: 2"),

@@ -536,10 +536,7 @@ mod tests {
     }
 
     fn storage_with(mesh: BilinearPatchMesh) -> ShapeStorage {
-        ShapeStorage {
-            triangle_meshes: Vec::new(),
-            bilinear_meshes: vec![mesh],
-        }
+        ShapeStorage { bilinear_meshes: vec![mesh], ..Default::default() }
     }
 
     const SQUARE: [Vec3; 4] = [

@@ -454,10 +454,7 @@ mod tests {
     use glam::DVec3;
 
     fn storage_with(mesh: TriangleMesh) -> ShapeStorage {
-        ShapeStorage {
-            triangle_meshes: vec![mesh],
-            bilinear_meshes: Vec::new(),
-        }
+        ShapeStorage { triangle_meshes: vec![mesh], ..Default::default() }
     }
 
     fn single(p: [Vec3; 3], transform: &Transform, reverse: bool) -> TriangleMesh {
