@@ -76,20 +76,35 @@ pub struct BuiltScene {
 }
 
 impl BuiltScene {
-    /// The closest surface hit by `ray` before `t_max`.
+    /// The closest surface hit by `ray` before `t_max`. Curve hits are
+    /// kept light until the closest one is known (building a curve's
+    /// interaction costs more than finding it).
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<(SurfaceInteraction, &Primitive)> {
+        enum Best {
+            Full(SurfaceInteraction, usize),
+            Curve(crate::shapes::curve::CurveHit, u32, usize),
+        }
+        let frame = crate::shapes::curve::RayFrame::new(ray)?;
         let mut best = None;
         self.bvh.closest_hit(ray, t_max, |i, t_max| {
             let prim = &self.primitives[i];
+            if let Shape::Curve(c) = prim.shape {
+                let (piece, segment) = self.shapes.curve(c);
+                let hit = piece.intersect_in(segment, &frame, t_max)?;
+                best = Some(Best::Curve(hit, c, i));
+                return Some(hit.t);
+            }
             let hit = prim.shape.intersect(&self.shapes, ray, t_max)?;
             let t = hit.t_hit;
-            best = Some((hit.interaction, i));
+            best = Some(Best::Full(hit.interaction, i));
             Some(t)
         })?;
-        best.map(|(mut si, i)| {
-            si.primitive = i as u32;
-            (si, &self.primitives[i])
-        })
+        let (mut si, i) = match best? {
+            Best::Full(si, i) => (si, i),
+            Best::Curve(hit, c, i) => (hit.interaction(self.shapes.curve(c).1, ray), i),
+        };
+        si.primitive = i as u32;
+        Some((si, &self.primitives[i]))
     }
 
     /// Whether anything lies on `ray` before `t_max`.

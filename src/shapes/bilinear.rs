@@ -536,7 +536,10 @@ mod tests {
     }
 
     fn storage_with(mesh: BilinearPatchMesh) -> ShapeStorage {
-        ShapeStorage { bilinear_meshes: vec![mesh], ..Default::default() }
+        ShapeStorage {
+            bilinear_meshes: vec![mesh],
+            ..Default::default()
+        }
     }
 
     const SQUARE: [Vec3; 4] = [

@@ -134,23 +134,34 @@ impl CurvePiece {
         }
     }
 
-    /// The hit of `ray` with this piece before `t_max`: (t, u, v, hit
-    /// width, ribbon normal), u in the segment's parameter.
+    /// The hit of `ray` with this piece before `t_max` (u in the
+    /// segment's parameter).
     pub fn intersect(&self, segment: &CurveSegment, ray: &Ray, t_max: f32) -> Option<CurveHit> {
-        let ray_length = ray.direction.length();
-        if ray_length == 0.0 {
+        self.intersect_in(segment, &RayFrame::new(ray)?, t_max)
+    }
+
+    /// The same, with the ray's frame computed once for all pieces.
+    pub fn intersect_in(
+        &self,
+        segment: &CurveSegment,
+        frame: &RayFrame,
+        t_max: f32,
+    ) -> Option<CurveHit> {
+        let c = self.cp.map(|p| frame.project(p));
+        // Cheap rejections on the control polygon's hull (a Bézier curve
+        // lies inside it): too far from the ray sideways, or in depth.
+        let half_width = 0.5 * segment.width_at(self.u0).max(segment.width_at(self.u1));
+        let (mut lo, mut hi) = (c[0], c[0]);
+        for p in &c[1..] {
+            lo = lo.min(*p);
+            hi = hi.max(*p);
+        }
+        if lo.x > half_width || hi.x < -half_width || lo.y > half_width || hi.y < -half_width {
             return None;
         }
-        let dz = ray.direction / ray_length;
-        // A frame along the ray: (ex, ey, dz) right-handed, as pbrt's LookAt
-        // (the in-plane rotation does not matter; the handedness fixes the
-        // sign of v).
-        let (ex, ey) = crate::math::frame::coordinate_system(dz);
-        let to_ray = |p: Vec3| {
-            let q = p - ray.origin;
-            Vec3::new(q.dot(ex), q.dot(ey), q.dot(dz))
-        };
-        let c = self.cp.map(to_ray);
+        if hi.z < 0.0 || lo.z > frame.length * t_max {
+            return None;
+        }
 
         // Newton on g(w) = ⟨c_xy(w), c′_xy(w)⟩, from the chord's closest
         // point. Pieces are split flat enough at build time for one root.
@@ -186,14 +197,14 @@ impl CurvePiece {
         let mut n_hit = Vec3::ZERO;
         if segment.kind == CurveType::Ribbon {
             n_hit = segment.ribbon_normal(u);
-            hit_width *= n_hit.dot(ray.direction).abs() / ray_length;
+            hit_width *= n_hit.dot(frame.dz).abs();
         }
         let (pc, dpcdw) = evaluate_bezier(&c, w);
         let dist2 = pc.x * pc.x + pc.y * pc.y;
         if dist2 > hit_width * hit_width * 0.25 {
             return None;
         }
-        if pc.z < 0.0 || pc.z > ray_length * t_max {
+        if pc.z < 0.0 || pc.z > frame.length * t_max {
             return None;
         }
         let dist = dist2.sqrt();
@@ -204,12 +215,49 @@ impl CurvePiece {
             0.5 - dist / hit_width
         };
         Some(CurveHit {
-            t: pc.z / ray_length,
+            t: pc.z / frame.length,
             u,
             v,
             hit_width,
             n_hit,
         })
+    }
+}
+
+/// A ray's frame: origin, two axes across it and its unit direction,
+/// (ex, ey, dz) right-handed as pbrt's LookAt (the rotation about the ray
+/// does not matter; the handedness fixes the sign of v).
+#[derive(Clone, Copy, Debug)]
+pub struct RayFrame {
+    pub origin: Vec3,
+    pub ex: Vec3,
+    pub ey: Vec3,
+    pub dz: Vec3,
+    /// Length of the ray's direction vector (t is in its units).
+    pub length: f32,
+}
+
+impl RayFrame {
+    pub fn new(ray: &Ray) -> Option<Self> {
+        let length = ray.direction.length();
+        if length == 0.0 || !length.is_finite() {
+            return None;
+        }
+        let dz = ray.direction / length;
+        let (ex, ey) = crate::math::frame::coordinate_system(dz);
+        Some(RayFrame {
+            origin: ray.origin,
+            ex,
+            ey,
+            dz,
+            length,
+        })
+    }
+
+    #[inline]
+    fn project(&self, p: Vec3) -> Vec3 {
+        let q = p - self.origin;
+        Vec3::new(q.dot(self.ex), q.dot(self.ey), q.dot(self.dz))
     }
 }
 

@@ -72,7 +72,7 @@ pub struct ShapeStorage {
 }
 
 impl ShapeStorage {
-    fn curve(&self, piece: u32) -> (&curve::CurvePiece, &curve::CurveSegment) {
+    pub fn curve(&self, piece: u32) -> (&curve::CurvePiece, &curve::CurveSegment) {
         let p = &self.curve_pieces[piece as usize];
         (p, &self.curve_segments[p.segment as usize])
     }

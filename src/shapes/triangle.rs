@@ -454,7 +454,10 @@ mod tests {
     use glam::DVec3;
 
     fn storage_with(mesh: TriangleMesh) -> ShapeStorage {
-        ShapeStorage { triangle_meshes: vec![mesh], ..Default::default() }
+        ShapeStorage {
+            triangle_meshes: vec![mesh],
+            ..Default::default()
+        }
     }
 
     fn single(p: [Vec3; 3], transform: &Transform, reverse: bool) -> TriangleMesh {
