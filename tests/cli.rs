@@ -74,3 +74,26 @@ fn errors_exit_non_zero_with_location() {
     let (ok, _, stderr) = rpbrt(&["/nonexistent/scene.pbrt"]);
     assert!(!ok && stderr.contains("cannot read"), "{stderr}");
 }
+
+#[test]
+fn curves_as_area_lights_are_refused_with_a_message() {
+    let scene = write_temp(
+        "curve-light.pbrt",
+        "Film \"rgb\" \"integer xresolution\" 8 \"integer yresolution\" 8\nWorldBegin\nAttributeBegin\n\
+         AreaLightSource \"diffuse\" \"rgb L\" [1 1 1]\n\
+         Shape \"curve\" \"point3 P\" [0 0 0 1 0 0 2 0 0 3 0 0] \"float width\" 0.1\nAttributeEnd\n",
+    );
+    let out = scene.with_extension("exr");
+    let (ok, _, stderr) = rpbrt(&[
+        scene.to_str().unwrap(),
+        "--outfile",
+        out.to_str().unwrap(),
+        "--quiet",
+    ]);
+    assert!(!ok);
+    assert!(
+        stderr.contains("curve-light.pbrt:5:1") && stderr.contains("curves cannot be area lights"),
+        "{stderr}"
+    );
+    assert!(!out.exists(), "no image is written on error");
+}

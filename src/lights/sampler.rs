@@ -1,9 +1,12 @@
 //! Choosing which light to sample for direct lighting.
 //!
 //! pbrt-v4's `lightsampler` parameter: `uniform`, `power`, `bvh` (default).
-//! The BVH sampler's spatial importance is not built yet: `bvh` samples by
-//! power (unbiased either way; only the noise differs where many lights are
-//! spread over the scene).
+//! For `bvh`, lights without bounds (distant and infinite) are chosen as
+//! pbrt-v4's BVH sampler chooses them — each with probability
+//! 1 / (their count + 1 if there are bounded lights) — and bounded lights
+//! share the rest by power; the BVH's spatial importance among bounded
+//! lights is not built yet (unbiased either way: only the noise differs
+//! where many lights are spread over the scene).
 
 use super::{Light, LightSampleContext};
 use crate::shapes::ShapeStorage;
@@ -42,6 +45,44 @@ impl LightSampler {
         } else {
             Self::uniform(lights.len())
         }
+    }
+
+    /// pbrt-v4's BVH light sampler's treatment of unbounded lights, with
+    /// bounded lights by power.
+    pub fn bvh(lights: &[Light], shapes: &ShapeStorage) -> Self {
+        let unbounded = |l: &Light| {
+            matches!(
+                l.kind(),
+                super::LightKind::Infinite | super::LightKind::DeltaDirection
+            )
+        };
+        let n_unbounded = lights.iter().filter(|l| unbounded(l)).count();
+        let n_bounded = lights.len() - n_unbounded;
+        if n_unbounded == 0 {
+            return Self::power(lights, shapes);
+        }
+        let p_unbounded = n_unbounded as f32 / (n_unbounded + usize::from(n_bounded > 0)) as f32;
+        let power = Self::power(lights, shapes);
+        let bounded_total: f32 = lights
+            .iter()
+            .zip(&power.pmf)
+            .filter(|(l, _)| !unbounded(l))
+            .map(|(_, p)| p)
+            .sum();
+        let weights: Vec<f32> = lights
+            .iter()
+            .zip(&power.pmf)
+            .map(|(l, &p)| {
+                if unbounded(l) {
+                    p_unbounded / n_unbounded as f32
+                } else if bounded_total > 0.0 {
+                    (1.0 - p_unbounded) * p / bounded_total
+                } else {
+                    (1.0 - p_unbounded) / n_bounded as f32
+                }
+            })
+            .collect();
+        Self::from_weights(&weights)
     }
 
     fn from_weights(weights: &[f32]) -> Self {

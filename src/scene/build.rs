@@ -265,6 +265,12 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
                 let _ = a;
                 None
             }
+            Some(_) if matches!(shape.entity.kind.as_str(), "curve" | "bcurve") => {
+                return scene_error(
+                    "curves cannot be area lights: emission from curves is not supported (as in pbrt-v4)",
+                    loc,
+                )
+            }
             Some(a) => Some(&scene.area_lights[a]),
             None => None,
         };
@@ -312,7 +318,8 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
         .as_str()
     {
         "uniform" => LightSampler::uniform(lights.len()),
-        "power" | "bvh" => LightSampler::power(&lights, &shapes),
+        "power" => LightSampler::power(&lights, &shapes),
+        "bvh" => LightSampler::bvh(&lights, &shapes),
         other => {
             return scene_error(
                 format!("light sampler \"{other}\" unknown (expected uniform, power or bvh)"),
