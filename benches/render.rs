@@ -13,7 +13,10 @@ fn mesh_scene(n: usize) -> String {
     let mut p = String::new();
     for j in 0..=n {
         for i in 0..=n {
-            let (x, y) = (i as f32 / n as f32 * 2.0 - 1.0, j as f32 / n as f32 * 2.0 - 1.0);
+            let (x, y) = (
+                i as f32 / n as f32 * 2.0 - 1.0,
+                j as f32 / n as f32 * 2.0 - 1.0,
+            );
             let z = 0.05 * ((x * 40.0).sin() * (y * 37.0).cos());
             p.push_str(&format!("{x} {y} {z} "));
         }
@@ -22,7 +25,15 @@ fn mesh_scene(n: usize) -> String {
     for j in 0..n {
         for i in 0..n {
             let a = j * (n + 1) + i;
-            idx.push_str(&format!("{} {} {} {} {} {} ", a, a + 1, a + n + 2, a, a + n + 2, a + n + 1));
+            idx.push_str(&format!(
+                "{} {} {} {} {} {} ",
+                a,
+                a + 1,
+                a + n + 2,
+                a,
+                a + n + 2,
+                a + n + 1
+            ));
         }
     }
     format!(
@@ -58,29 +69,44 @@ fn triangles(c: &mut Criterion) {
     let text = mesh_scene(300); // 180,000 triangles
     let mut group = c.benchmark_group("bvh");
     group.sample_size(10);
-    group.bench_function("build 180k triangles (parse + build)", |b| b.iter(|| black_box(built(&text))));
+    group.bench_function("build 180k triangles (parse + build)", |b| {
+        b.iter(|| black_box(built(&text)))
+    });
     let scene = built(&text);
     let rays = rays(100_000, 2.0);
     group.throughput(Throughput::Elements(rays.len() as u64));
     group.bench_function("closest hit, 180k triangles", |b| {
-        b.iter(|| rays.iter().filter(|r| scene.intersect(r, f32::INFINITY).is_some()).count())
+        b.iter(|| {
+            rays.iter()
+                .filter(|r| scene.intersect(r, f32::INFINITY).is_some())
+                .count()
+        })
     });
     group.finish();
 }
 
 fn curves(c: &mut Criterion) {
     // 20,000 random cylinder curves in a 8³ box (the parse benchmark's form).
-    let text = rpbrt::tools::curvegen::curve_scene(20_000, 3).replace("Material \"hair\"", "Material \"diffuse\"");
+    let text = rpbrt::tools::curvegen::curve_scene(20_000, 3)
+        .replace("Material \"hair\"", "Material \"diffuse\"");
     let scene = built(&text);
     let rays = rays(100_000, 6.0);
     let mut group = c.benchmark_group("curves");
     group.sample_size(10);
     group.throughput(Throughput::Elements(rays.len() as u64));
     group.bench_function("closest hit, 20k curves", |b| {
-        b.iter(|| rays.iter().filter(|r| scene.intersect(r, f32::INFINITY).is_some()).count())
+        b.iter(|| {
+            rays.iter()
+                .filter(|r| scene.intersect(r, f32::INFINITY).is_some())
+                .count()
+        })
     });
     group.bench_function("any hit, 20k curves", |b| {
-        b.iter(|| rays.iter().filter(|r| scene.intersect_p(r, f32::INFINITY)).count())
+        b.iter(|| {
+            rays.iter()
+                .filter(|r| scene.intersect_p(r, f32::INFINITY))
+                .count()
+        })
     });
     group.finish();
 }

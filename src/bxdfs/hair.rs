@@ -76,7 +76,7 @@ fn mp(cos_theta_i: f32, cos_theta_o: f32, sin_theta_i: f32, sin_theta_o: f32, v:
     let a = cos_theta_i * cos_theta_o / v;
     let b = sin_theta_i * sin_theta_o / v;
     if v <= 0.1 {
-        (log_i0(a) - b - 1.0 / v + 0.6931 + (1.0 / (2.0 * v)).ln()).exp()
+        (log_i0(a) - b - 1.0 / v + std::f32::consts::LN_2 + (1.0 / (2.0 * v)).ln()).exp()
     } else {
         ((-b).exp() * i0(a)) / ((1.0 / v).sinh() * 2.0 * v)
     }

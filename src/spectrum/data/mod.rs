@@ -11,8 +11,10 @@ pub mod cie_1931;
 #[rustfmt::skip]
 pub mod glasses;
 #[rustfmt::skip]
+#[allow(clippy::approx_constant)] // tabulated measurements, not constants
 pub mod illuminants;
 #[rustfmt::skip]
+#[allow(clippy::approx_constant)] // tabulated measurements, not constants
 pub mod metals;
 
 /// Values sampled at evenly spaced wavelengths: the form the CIE publishes
