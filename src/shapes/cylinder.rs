@@ -13,7 +13,7 @@
 //! handedness-swapping transform (sampled normals: `ReverseOrientation`
 //! only, as in pbrt-v4).
 
-use super::interval::Interval;
+use super::interval::{solve_quadric, Interval};
 use super::object_transform::ObjectTransform;
 use super::surface::{surface_interaction, weingarten_normal_derivatives, SurfacePoint};
 use super::{
@@ -115,31 +115,7 @@ impl Cylinder {
         let vx = oi.x - f * di.x;
         let vy = oi.y - f * di.y;
         let length = (vx.squared() + vy.squared()).sqrt();
-        let discriminant = a.scaled(4.0) * (radius + length) * (radius - length);
-        if discriminant.low < 0.0 {
-            return None;
-        }
-        let root = discriminant.sqrt();
-        let q = if b.midpoint() < 0.0 {
-            (b - root).scaled(-0.5)
-        } else {
-            (b + root).scaled(-0.5)
-        };
-        let mut t0 = q / a;
-        let mut t1 = c / q;
-        if t0.low > t1.low {
-            std::mem::swap(&mut t0, &mut t1);
-        }
-        if t0.high > t_max || t1.low <= 0.0 {
-            return None;
-        }
-        let mut t_hit = t0;
-        if t_hit.low <= 0.0 {
-            t_hit = t1;
-            if t_hit.high > t_max {
-                return None;
-            }
-        }
+        let (mut t_hit, t1) = solve_quadric(a, b, c, radius, length, t_max)?;
 
         let (mut p, mut phi) = self.hit_point(o, d, t_hit.midpoint());
         if self.is_clipped(p, phi) {

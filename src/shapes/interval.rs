@@ -163,6 +163,46 @@ impl Div for Interval {
     }
 }
 
+/// The roots of the quadric a t² + b t + c = 0 in interval arithmetic, with
+/// the discriminant in pbrt-v4's cancellation-free form 4a (r + ℓ)(r − ℓ)
+/// (ℓ: distance from the axis or centre to the ray's closest point): the
+/// first root in (0, t_max) and the far root, or `None`.
+pub(crate) fn solve_quadric(
+    a: Interval,
+    b: Interval,
+    c: Interval,
+    radius: Interval,
+    length: Interval,
+    t_max: f32,
+) -> Option<(Interval, Interval)> {
+    let discriminant = a.scaled(4.0) * (radius + length) * (radius - length);
+    if discriminant.low < 0.0 {
+        return None;
+    }
+    let root = discriminant.sqrt();
+    let q = if b.midpoint() < 0.0 {
+        (b - root).scaled(-0.5)
+    } else {
+        (b + root).scaled(-0.5)
+    };
+    let mut t0 = q / a;
+    let mut t1 = c / q;
+    if t0.low > t1.low {
+        std::mem::swap(&mut t0, &mut t1);
+    }
+    if t0.high > t_max || t1.low <= 0.0 {
+        return None;
+    }
+    let mut t_hit = t0;
+    if t_hit.low <= 0.0 {
+        t_hit = t1;
+        if t_hit.high > t_max {
+            return None;
+        }
+    }
+    Some((t_hit, t1))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
