@@ -8,6 +8,7 @@
 //! projected width, z the surface normal; azimuth φ = atan2(ω.z, ω.y).
 //! `h` ∈ [−1, 1] is where the ray crossed the fibre's width.
 
+use super::fresnel::fr_dielectric;
 use crate::math::{safe_asin, safe_sqrt, sqr};
 use crate::spectrum::SampledSpectrum;
 use glam::{Vec2, Vec3};
@@ -80,24 +81,6 @@ fn mp(cos_theta_i: f32, cos_theta_o: f32, sin_theta_i: f32, sin_theta_o: f32, v:
     } else {
         ((-b).exp() * i0(a)) / ((1.0 / v).sinh() * 2.0 * v)
     }
-}
-
-/// Fresnel reflectance of a dielectric interface (η relative, unpolarised).
-pub fn fr_dielectric(cos_theta_i: f32, eta: f32) -> f32 {
-    let mut cos_i = cos_theta_i.clamp(-1.0, 1.0);
-    let mut eta = eta;
-    if cos_i < 0.0 {
-        eta = 1.0 / eta;
-        cos_i = -cos_i;
-    }
-    let sin2_t = (1.0 - cos_i * cos_i) / (eta * eta);
-    if sin2_t >= 1.0 {
-        return 1.0;
-    }
-    let cos_t = safe_sqrt(1.0 - sin2_t);
-    let r_parl = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
-    let r_perp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
-    (r_parl * r_parl + r_perp * r_perp) / 2.0
 }
 
 /// Attenuations A_0…A_pMax, the last being the residual of all higher
