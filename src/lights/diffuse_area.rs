@@ -24,6 +24,17 @@ pub struct DiffuseAreaLight {
     pub area: f32,
 }
 
+/// The same point, as the shapes' sampling takes it.
+fn shape_context(ctx: &LightSampleContext) -> ShapeSampleContext {
+    ShapeSampleContext {
+        p: ctx.p,
+        p_error: ctx.p_error,
+        n: ctx.n,
+        ns: ctx.ns,
+        time: ctx.time,
+    }
+}
+
 impl DiffuseAreaLight {
     /// Radiance leaving the surface at a point with normal `n` in
     /// direction `w`.
@@ -41,13 +52,7 @@ impl DiffuseAreaLight {
         lambda: &SampledWavelengths,
         shapes: &ShapeStorage,
     ) -> Option<LightLiSample> {
-        let shape_ctx = ShapeSampleContext {
-            p: ctx.p,
-            p_error: ctx.p_error,
-            n: ctx.n,
-            ns: ctx.ns,
-            time: ctx.time,
-        };
+        let shape_ctx = shape_context(ctx);
         let ss = self.shape.sample_from(shapes, &shape_ctx, u)?;
         if ss.pdf == 0.0 || (ss.p - ctx.p).length_squared() == 0.0 {
             return None;
@@ -68,13 +73,7 @@ impl DiffuseAreaLight {
     }
 
     pub fn pdf_li(&self, ctx: &LightSampleContext, wi: Vec3, shapes: &ShapeStorage) -> f32 {
-        let shape_ctx = ShapeSampleContext {
-            p: ctx.p,
-            p_error: ctx.p_error,
-            n: ctx.n,
-            ns: ctx.ns,
-            time: ctx.time,
-        };
+        let shape_ctx = shape_context(ctx);
         self.shape.pdf_from(shapes, &shape_ctx, wi)
     }
 

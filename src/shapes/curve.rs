@@ -67,37 +67,33 @@ pub struct CurvePiece {
     pub cp: [Vec3; 4],
 }
 
-fn lerp3(t: f32, a: Vec3, b: Vec3) -> Vec3 {
-    a + (b - a) * t
-}
-
 /// Point and derivative of a cubic Bézier at u (de Casteljau).
 pub fn evaluate_bezier(cp: &[Vec3; 4], u: f32) -> (Vec3, Vec3) {
     let a = [
-        lerp3(u, cp[0], cp[1]),
-        lerp3(u, cp[1], cp[2]),
-        lerp3(u, cp[2], cp[3]),
+        cp[0].lerp(cp[1], u),
+        cp[1].lerp(cp[2], u),
+        cp[2].lerp(cp[3], u),
     ];
-    let b = [lerp3(u, a[0], a[1]), lerp3(u, a[1], a[2])];
+    let b = [a[0].lerp(a[1], u), a[1].lerp(a[2], u)];
     let deriv = if (b[1] - b[0]).length_squared() > 0.0 {
         3.0 * (b[1] - b[0])
     } else {
         // A degenerate end (repeated control points): use the chord.
         cp[3] - cp[0]
     };
-    (lerp3(u, b[0], b[1]), deriv)
+    (b[0].lerp(b[1], u), deriv)
 }
 
 /// The control points of the sub-curve over [u0, u1] (blossoming).
 pub fn blossom_piece(cp: &[Vec3; 4], u0: f32, u1: f32) -> [Vec3; 4] {
     let blossom = |u: [f32; 3]| {
         let a = [
-            lerp3(u[0], cp[0], cp[1]),
-            lerp3(u[0], cp[1], cp[2]),
-            lerp3(u[0], cp[2], cp[3]),
+            cp[0].lerp(cp[1], u[0]),
+            cp[1].lerp(cp[2], u[0]),
+            cp[2].lerp(cp[3], u[0]),
         ];
-        let b = [lerp3(u[1], a[0], a[1]), lerp3(u[1], a[1], a[2])];
-        lerp3(u[2], b[0], b[1])
+        let b = [a[0].lerp(a[1], u[1]), a[1].lerp(a[2], u[1])];
+        b[0].lerp(b[1], u[2])
     };
     [
         blossom([u0, u0, u0]),

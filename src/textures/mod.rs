@@ -279,9 +279,5 @@ pub fn create_texture(
             return scene_error(format!("texture \"{other}\" is not supported yet (supported: constant, scale, checkerboard)"), loc)
         }
     };
-    // Parameters every texture may have.
-    uv_scale(&entity.params)?;
-    entity.params.find("v1", &[ParamType::Vector3])?;
-    entity.params.find("v2", &[ParamType::Vector3])?;
     Ok(Some(result))
 }
