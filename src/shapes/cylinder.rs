@@ -13,6 +13,7 @@
 //! handedness-swapping transform (sampled normals: `ReverseOrientation`
 //! only, as in pbrt-v4).
 
+use super::first_unclipped;
 use super::interval::{solve_quadric, Interval};
 use super::object_transform::ObjectTransform;
 use super::surface::{surface_interaction, weingarten_normal_derivatives, SurfacePoint};
@@ -115,27 +116,15 @@ impl Cylinder {
         let vx = oi.x - f * di.x;
         let vy = oi.y - f * di.y;
         let length = (vx.squared() + vy.squared()).sqrt();
-        let (mut t_hit, t1) = solve_quadric(a, b, c, radius, length, t_max)?;
+        let (t_hit, t1) = solve_quadric(a, b, c, radius, length, t_max)?;
 
-        let (mut p, mut phi) = self.hit_point(o, d, t_hit.midpoint());
-        if self.is_clipped(p, phi) {
-            if t_hit == t1 {
-                return None;
-            }
-            t_hit = t1;
-            if t1.high > t_max {
-                return None;
-            }
-            (p, phi) = self.hit_point(o, d, t_hit.midpoint());
-            if self.is_clipped(p, phi) {
-                return None;
-            }
-        }
-        Some(QuadricHit {
-            t: t_hit.midpoint(),
-            p_object: p,
-            phi,
-        })
+        first_unclipped(
+            t_hit,
+            t1,
+            t_max,
+            |t| self.hit_point(o, d, t),
+            |p, phi| self.is_clipped(p, phi),
+        )
     }
 
     pub fn intersect_p(&self, ray: &Ray, t_max: f32) -> bool {

@@ -153,6 +153,34 @@ pub(crate) struct QuadricHit {
     pub phi: f32,
 }
 
+/// The quadric hit at `t_hit` unless the partial shape's clipping (z range,
+/// φmax) removes it, then the far root `t1` (pbrt-v4's second chance).
+pub(crate) fn first_unclipped(
+    t_hit: interval::Interval,
+    t1: interval::Interval,
+    t_max: f32,
+    hit_point: impl Fn(f32) -> (Vec3, f32),
+    is_clipped: impl Fn(Vec3, f32) -> bool,
+) -> Option<QuadricHit> {
+    let mut t = t_hit;
+    let (mut p, mut phi) = hit_point(t.midpoint());
+    if is_clipped(p, phi) {
+        if t_hit == t1 || t1.high > t_max {
+            return None;
+        }
+        t = t1;
+        (p, phi) = hit_point(t.midpoint());
+        if is_clipped(p, phi) {
+            return None;
+        }
+    }
+    Some(QuadricHit {
+        t: t.midpoint(),
+        p_object: p,
+        phi,
+    })
+}
+
 impl Shape {
     /// Render-space bounds.
     pub fn bounds(&self, storage: &ShapeStorage) -> Bounds3 {

@@ -17,6 +17,7 @@
 //! outside uses the object-space radius (scaling transforms are not
 //! accounted for).
 
+use super::first_unclipped;
 use super::interval::{solve_quadric, Interval};
 use super::numeric::clamp;
 use super::object_transform::ObjectTransform;
@@ -142,24 +143,15 @@ impl Sphere {
         let vy = oi.y - f * di.y;
         let vz = oi.z - f * di.z;
         let length = (vx.squared() + vy.squared() + vz.squared()).sqrt();
-        let (mut t_hit, t1) = solve_quadric(a, b, c, radius, length, t_max)?;
+        let (t_hit, t1) = solve_quadric(a, b, c, radius, length, t_max)?;
 
-        let (mut p, mut phi) = self.hit_point(o, d, t_hit.midpoint());
-        if self.is_clipped(p, phi) {
-            if t_hit == t1 || t1.high > t_max {
-                return None;
-            }
-            t_hit = t1;
-            (p, phi) = self.hit_point(o, d, t_hit.midpoint());
-            if self.is_clipped(p, phi) {
-                return None;
-            }
-        }
-        Some(QuadricHit {
-            t: t_hit.midpoint(),
-            p_object: p,
-            phi,
-        })
+        first_unclipped(
+            t_hit,
+            t1,
+            t_max,
+            |t| self.hit_point(o, d, t),
+            |p, phi| self.is_clipped(p, phi),
+        )
     }
 
     pub fn intersect_p(&self, ray: &Ray, t_max: f32) -> bool {
