@@ -44,6 +44,12 @@ pub enum Error {
         path: String,
         source: std::io::Error,
     },
+    #[error("{0}")]
+    Image(#[from] crate::image::ImageError),
+    /// A command-line tool was asked for something it cannot do (mismatched
+    /// image sizes, a missing reference, a malformed list).
+    #[error("{0}")]
+    Usage(String),
 }
 
 pub type Result<T, E = Error> = std::result::Result<T, E>;

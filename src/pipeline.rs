@@ -2,7 +2,7 @@
 
 use crate::cameras::CameraSample;
 use crate::error::{Error, Result};
-use crate::image::Image;
+use crate::image::{DataWindow, Image};
 use crate::integrators::path_li;
 use crate::render::{interrupt_flag, render};
 use crate::scene::build::{build, RenderOverrides};
@@ -19,7 +19,10 @@ pub struct RenderReport {
     pub spp_requested: u32,
     pub spp_completed: u32,
     pub interrupted: bool,
-    pub parse_and_build: Duration,
+    /// Reading the scene file into a scene description.
+    pub parse: Duration,
+    /// Building the renderable scene (shapes, lights, BVH) from it.
+    pub build: Duration,
     pub render: Duration,
     /// Samples whose radiance was NaN or infinite (set to 0, as pbrt-v4).
     pub bad_samples: u64,
@@ -35,10 +38,11 @@ pub fn render_file(
 ) -> Result<RenderReport> {
     let start = Instant::now();
     let loaded = crate::scene::load(path)?;
+    let parse = start.elapsed();
     let built = build(&loaded.scene, overrides)?;
     let mut warnings: Vec<String> = loaded.warnings.iter().map(|w| w.to_string()).collect();
     warnings.extend(built.warnings.iter().map(|w| w.to_string()));
-    let parse_and_build = start.elapsed();
+    let build_time = start.elapsed() - parse;
 
     let film = &built.film;
     let spp = built.sampler.samples_per_pixel();
@@ -99,8 +103,15 @@ pub fn render_file(
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
     if is_exr {
+        // A partial render keeps its place in the film (as pbrt-v4 writes
+        // it), so `rpbrt imgtool assemble` can put the pieces together.
+        let full = film.full_resolution;
+        let window = DataWindow {
+            full_resolution: (full.x as u32, full.y as u32),
+            origin: (lo.x, lo.y),
+        };
         image
-            .write_exr(&film.filename, film.save_fp16)
+            .write_exr_in_window(&film.filename, film.save_fp16, Some(&window))
             .map_err(io_error)?;
     } else {
         image.write(&film.filename).map_err(io_error)?;
@@ -111,7 +122,8 @@ pub fn render_file(
         spp_requested: spp,
         spp_completed: outcome.samples_completed,
         interrupted: outcome.interrupted,
-        parse_and_build,
+        parse,
+        build: build_time,
         render: outcome.elapsed,
         bad_samples: bad.into_inner(),
         warnings,

@@ -6,15 +6,21 @@
 //! otherwise Y (and A), otherwise a lone channel of any name. Half and float
 //! samples are both read as `f32`; the format records which it was.
 
-use super::{ColorEncoding, Image, ImageError, PixelFormat};
+use super::{ColorEncoding, DataWindow, Image, ImageError, PixelFormat};
 use exr::prelude::{
-    f16, read, AnyChannel, AnyChannels, Encoding, FlatSamples, Layer, LayerAttributes,
-    ReadChannels, ReadLayers, Text, WritableImage,
+    f16, read, AnyChannel, AnyChannels, Encoding, FlatSamples, ImageAttributes, IntegerBounds,
+    Layer, LayerAttributes, ReadChannels, ReadLayers, Text, Vec2, WritableImage,
 };
 use std::io::{BufReader, Seek, Write};
 use std::path::Path;
 
 pub(crate) fn read_exr(path: &Path) -> Result<Image, ImageError> {
+    read_exr_with_window(path).map(|(image, _)| image)
+}
+
+/// The image and where its pixels lie in the full image (OpenEXR's data
+/// window within its display window).
+pub(crate) fn read_exr_with_window(path: &Path) -> Result<(Image, DataWindow), ImageError> {
     let file = std::fs::File::open(path).map_err(|source| ImageError::Io {
         path: path.into(),
         source,
@@ -31,8 +37,16 @@ pub(crate) fn read_exr(path: &Path) -> Result<Image, ImageError> {
         .all_attributes()
         .from_buffered(BufReader::new(file))
         .map_err(|error| malformed(format!("cannot read OpenEXR data: {error}")))?;
+    let display = exr_image.attributes.display_window;
     let layer = exr_image.layer_data;
     let (width, height) = (layer.size.0, layer.size.1);
+    let window = DataWindow {
+        full_resolution: (display.size.0 as u32, display.size.1 as u32),
+        origin: (
+            layer.attributes.layer_position.0 - display.position.0,
+            layer.attributes.layer_position.1 - display.position.1,
+        ),
+    };
     let pixel_count = width * height;
     let names: Vec<String> = layer
         .channel_data
@@ -91,8 +105,9 @@ pub(crate) fn read_exr(path: &Path) -> Result<Image, ImageError> {
     } else {
         PixelFormat::Float
     };
-    Image::from_parts(width, height, wanted, data, ColorEncoding::Linear, format)
-        .map_err(|error| malformed(error.to_string()))
+    let image = Image::from_parts(width, height, wanted, data, ColorEncoding::Linear, format)
+        .map_err(|error| malformed(error.to_string()))?;
+    Ok((image, window))
 }
 
 /// The channels to keep, in canonical order (see the module description).
@@ -118,10 +133,13 @@ fn canonical_channels(names: &[String]) -> Option<Vec<String>> {
 }
 
 /// Writes every channel of `image` (linear and finite; the caller checks),
-/// as half floats if `half`, else 32-bit floats, ZIP-compressed.
+/// as half floats if `half`, else 32-bit floats, ZIP-compressed; placed at
+/// `window` in a larger display window if given (as pbrt-v4 writes a
+/// `--pixelbounds` or `--cropwindow` render).
 pub(crate) fn write_exr(
     image: &Image,
     half: bool,
+    window: Option<&DataWindow>,
     path: &Path,
     writer: &mut (impl Write + Seek),
 ) -> Result<(), ImageError> {
@@ -149,13 +167,22 @@ pub(crate) fn write_exr(
         };
         channels.push(AnyChannel::new(name_text, samples));
     }
+    let mut attributes = LayerAttributes::default();
+    let mut display = IntegerBounds::from_dimensions((width, height));
+    if let Some(window) = window {
+        attributes.layer_position = Vec2(window.origin.0, window.origin.1);
+        display.size = Vec2(
+            window.full_resolution.0 as usize,
+            window.full_resolution.1 as usize,
+        );
+    }
     let layer = Layer::new(
         (width, height),
-        LayerAttributes::default(),
+        attributes,
         Encoding::SMALL_LOSSLESS,
         AnyChannels::sort(channels),
     );
-    exr::prelude::Image::from_layer(layer)
+    exr::prelude::Image::new(ImageAttributes::new(display), layer)
         .write()
         .to_buffered(writer)
         .map_err(|error| unwritable(format!("OpenEXR encoding failed: {error}")))

@@ -2,7 +2,7 @@
 //! refuse non-finite values, and write atomically.
 
 use super::atomic_write::write_atomically;
-use super::{exr_file, pfm_file, png_tga_jpeg_file, Image, ImageError};
+use super::{exr_file, pfm_file, png_tga_jpeg_file, DataWindow, Image, ImageError};
 use ::image::ImageFormat;
 use std::path::Path;
 
@@ -62,12 +62,32 @@ impl Image {
     /// atomically: the file appears complete or not at all, and a previous
     /// file of that name survives a failed write.
     pub fn write_exr(&self, path: impl AsRef<Path>, half: bool) -> Result<(), ImageError> {
+        self.write_exr_in_window(path, half, None)
+    }
+
+    /// [`Image::write_exr`], placing the image at `window` of a larger
+    /// image: OpenEXR's data window inside its display window, as pbrt-v4
+    /// writes renders of part of the film (`--pixelbounds`, `--cropwindow`).
+    pub fn write_exr_in_window(
+        &self,
+        path: impl AsRef<Path>,
+        half: bool,
+        window: Option<&DataWindow>,
+    ) -> Result<(), ImageError> {
         let path = path.as_ref();
         self.refuse_non_finite(path)?;
         let linear = self.to_linear();
         write_atomically(path, |writer| {
-            exr_file::write_exr(&linear, half, path, writer)
+            exr_file::write_exr(&linear, half, window, path, writer)
         })
+    }
+
+    /// Reads an OpenEXR file and where its pixels lie in the full image
+    /// (its data window in its display window).
+    pub fn read_exr_with_window(
+        path: impl AsRef<Path>,
+    ) -> Result<(Image, DataWindow), ImageError> {
+        exr_file::read_exr_with_window(path.as_ref())
     }
 
     /// Writes a PFM file (32-bit floats; `PF` from R, G, B or `Pf` from a
@@ -136,6 +156,25 @@ mod tests {
             assert_eq!(read.encoding(), ColorEncoding::Linear);
         }
         assert_eq!(directory.file_names(), ["float.exr"]);
+    }
+
+    #[test]
+    fn exr_data_window_round_trips() {
+        let directory = TestDirectory::new("exr-window");
+        let path = directory.join("tile.exr");
+        let tile = gradient(3, 2, &["R", "G", "B"]);
+        let window = DataWindow {
+            full_resolution: (10, 8),
+            origin: (4, 5),
+        };
+        tile.write_exr_in_window(&path, false, Some(&window)).unwrap();
+        let (read, read_window) = Image::read_exr_with_window(&path).unwrap();
+        assert_eq!(read, tile);
+        assert_eq!(read_window, window);
+        // A plain write is its own whole image.
+        tile.write_exr(&path, false).unwrap();
+        let (_, whole) = Image::read_exr_with_window(&path).unwrap();
+        assert_eq!(whole, DataWindow::whole(3, 2));
     }
 
     #[test]

@@ -10,6 +10,7 @@
 
 mod atomic_write;
 pub mod color_encoding;
+mod data_window;
 mod ewa_weights;
 mod exr_file;
 mod file_io;
@@ -24,6 +25,7 @@ mod rgb;
 pub mod wrap_mode;
 
 pub use color_encoding::ColorEncoding;
+pub use data_window::DataWindow;
 pub use image_buffer::{Image, NonFiniteSample};
 pub use mipmap::{FilterFunction, MIPMap};
 pub use pixel_format::PixelFormat;

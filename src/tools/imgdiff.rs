@@ -1,4 +1,64 @@
-//! Image error metrics of `../shared/refs/README.md`.
+//! Image error metrics: those of `../shared/refs/README.md` (MRSE, block
+//! bias), the plain MSE and MAE, and LDR-FLIP ([`super::flip`]).
+
+/// A whole-image error: the mean of a per-pixel error.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum Metric {
+    /// Mean squared error, (x − r)².
+    Mse,
+    /// Mean relative squared error, (x − r)² / (r² + 0.01) (pbrt-v4 imgtool's).
+    Mrse,
+    /// Mean absolute error, |x − r|.
+    Mae,
+    /// NVIDIA's LDR-FLIP, in [0, 1], at the paper's default viewing distance.
+    Flip,
+}
+
+impl Metric {
+    pub fn name(self) -> &'static str {
+        match self {
+            Metric::Mse => "MSE",
+            Metric::Mrse => "MRSE",
+            Metric::Mae => "MAE",
+            Metric::Flip => "FLIP",
+        }
+    }
+
+    /// Each pixel's error (the mean over R, G, B for the per-value metrics).
+    /// `image` and `reference` are interleaved linear RGB, row-major.
+    pub fn pixel_errors(self, image: &[f32], reference: &[f32], width: usize, height: usize) -> Vec<f64> {
+        assert_eq!(image.len(), width * height * 3);
+        assert_eq!(reference.len(), image.len());
+        let per_value = |f: fn(f64, f64) -> f64| {
+            image
+                .chunks_exact(3)
+                .zip(reference.chunks_exact(3))
+                .map(|(x, r)| (0..3).map(|c| f(x[c] as f64, r[c] as f64)).sum::<f64>() / 3.0)
+                .collect()
+        };
+        match self {
+            Metric::Mse => per_value(|x, r| (x - r) * (x - r)),
+            Metric::Mrse => per_value(relative_squared_error),
+            Metric::Mae => per_value(|x, r| (x - r).abs()),
+            Metric::Flip => {
+                super::flip::flip_map(image, reference, width, height, super::flip::DEFAULT_PIXELS_PER_DEGREE)
+                    .into_iter()
+                    .map(f64::from)
+                    .collect()
+            }
+        }
+    }
+
+    /// The image's error: the mean of [`Metric::pixel_errors`].
+    pub fn mean(self, image: &[f32], reference: &[f32], width: usize, height: usize) -> f64 {
+        let errors = self.pixel_errors(image, reference, width, height);
+        errors.iter().sum::<f64>() / errors.len().max(1) as f64
+    }
+}
+
+fn relative_squared_error(x: f64, r: f64) -> f64 {
+    (x - r) * (x - r) / (r * r + 0.01)
+}
 
 /// MRSE (pbrt-v4 imgtool's): mean over pixels and channels of
 /// (x − r)² / (r² + 0.01).
@@ -7,10 +67,7 @@ pub fn mrse(image: &[f32], reference: &[f32]) -> f64 {
     let sum: f64 = image
         .iter()
         .zip(reference)
-        .map(|(&x, &r)| {
-            let (x, r) = (x as f64, r as f64);
-            (x - r) * (x - r) / (r * r + 0.01)
-        })
+        .map(|(&x, &r)| relative_squared_error(x as f64, r as f64))
         .sum();
     sum / image.len().max(1) as f64
 }
@@ -73,5 +130,24 @@ mod tests {
         let noisy = [1.2f32, 0.8, 1.2, 0.8];
         assert!(block_bias(&noisy, &[1.0; 4], 2, 2, 1, 2) < 1e-6);
         assert!(mrse(&noisy, &[1.0; 4]) > 0.03);
+    }
+
+    #[test]
+    fn metrics_of_synthetic_images() {
+        // 2 × 1 pixels; reference 1 everywhere, image off by 0.5 in one pixel
+        // (all channels) and by −0.1 in the other's red only.
+        let r = vec![1.0f32; 6];
+        let x = [1.5f32, 1.5, 1.5, 0.9, 1.0, 1.0];
+        let mse = (3.0 * 0.25 + 0.01) / 6.0;
+        let mae = (3.0 * 0.5 + 0.1) / 6.0;
+        assert!((Metric::Mse.mean(&x, &r, 2, 1) - mse).abs() < 1e-7);
+        assert!((Metric::Mae.mean(&x, &r, 2, 1) - mae).abs() < 1e-7);
+        assert!((Metric::Mrse.mean(&x, &r, 2, 1) - mse / 1.01).abs() < 1e-7);
+        assert!((Metric::Mrse.mean(&x, &r, 2, 1) - mrse(&x, &r)).abs() < 1e-12);
+        let pixels = Metric::Mae.pixel_errors(&x, &r, 2, 1);
+        assert!((pixels[0] - 0.5).abs() < 1e-7 && (pixels[1] - 0.1 / 3.0).abs() < 1e-7);
+        for metric in [Metric::Mse, Metric::Mrse, Metric::Mae, Metric::Flip] {
+            assert_eq!(metric.mean(&r, &r, 2, 1), 0.0, "{metric:?}");
+        }
     }
 }

@@ -1,5 +1,14 @@
-//! Tools around rendering: generated test scenes (and later image
-//! comparison, convergence runs, BCSDF maps).
+//! Tools around rendering: the command-line commands (each with its clap
+//! arguments and its `run`), image comparison, convergence runs and the
+//! performance report, and generated test scenes.
 
+pub mod convergence;
 pub mod curvegen;
+pub mod flip;
+pub mod heat_map;
 pub mod imgdiff;
+pub mod imgtool;
+pub mod peak_memory;
+pub mod plot;
+pub mod render_scene;
+pub mod report;

@@ -1,0 +1,472 @@
+//! `rpbrt report`: measures and writes `docs/performance.md`.
+//!
+//! For every scene of the table in `../shared/refs/README.md` it runs the
+//! convergence measurement ([`super::convergence`]) at pbrt-v4's listed
+//! sample counts, finds the time rpbrt needs to reach pbrt-v4's error at
+//! each (interpolated on rpbrt's log–log error-over-time curve) and divides
+//! it by pbrt-v4's time; it adds parse and build times, peak memory (a
+//! child `rpbrt --stats` process at 1 spp), the dual-model overhead in the
+//! form of the paper's Table 2, and the machine and commit. Every figure is
+//! measured by this command; the hand-written notes live in
+//! `docs/performance-notes.md`, which the report links to.
+
+use super::convergence::{self, curve, time_at_error, Measurement, Renderer, Run};
+use super::plot::{Series, ORANGE};
+use crate::error::Error;
+use crate::pipeline::render_file;
+use crate::scene::build::RenderOverrides;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+/// Measure every shared reference scene against pbrt-v4 and write the
+/// performance report. Takes tens of minutes at the default settings: run
+/// it on an otherwise idle machine.
+#[derive(clap::Args, Debug)]
+pub struct ReportArgs {
+    /// The report to write.
+    #[arg(long, default_value = "docs/performance.md")]
+    pub out: PathBuf,
+    /// The shared data folder (holds refs/ and scenes/derived/).
+    #[arg(long, default_value = "../shared")]
+    pub shared: PathBuf,
+    /// Renders (seeds) per sample count.
+    #[arg(long, default_value_t = 3)]
+    pub repeat: u32,
+    /// Render threads (pbrt-v4's figures were measured with 2).
+    #[arg(long, default_value_t = 2)]
+    pub nthreads: usize,
+    /// Render at most this many samples per pixel (for a quick trial of the
+    /// report; the figures are then not comparable).
+    #[arg(long)]
+    pub max_spp: Option<u32>,
+    /// Only these scenes (names from the refs table), comma-separated.
+    #[arg(long, value_delimiter = ',')]
+    pub scenes: Option<Vec<String>>,
+    /// Also run this pbrt-v4 binary in the same run (same spp, seeds,
+    /// threads), for same-machine, same-time ratios.
+    #[arg(long)]
+    pub pbrt: Option<PathBuf>,
+    /// Where renders and CSV files go.
+    #[arg(long, default_value = "target/performance")]
+    pub work: PathBuf,
+    /// Samples per pixel of the dual-model (Table 2) renders.
+    #[arg(long, default_value_t = 64)]
+    pub dual_spp: u32,
+}
+
+/// One row of the refs README's figures table.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReferenceRow {
+    pub scene: String,
+    pub spp: u32,
+    /// pbrt-v4's quiet median of 3 runs, where measured.
+    pub quiet_seconds: Option<f64>,
+    /// pbrt-v4's time as rendered (other work may have shared the machine).
+    pub rendered_seconds: f64,
+    pub mrse: f64,
+}
+
+/// The figures table of `../shared/refs/README.md`: rows of `| scene |
+/// ref spp | spp | quiet s | as-rendered s | MRSE | block bias |`.
+pub fn parse_reference_table(readme: &str) -> Vec<ReferenceRow> {
+    readme
+        .lines()
+        .filter_map(|line| {
+            let cells: Vec<&str> = line.trim().trim_matches('|').split('|').map(str::trim).collect();
+            if cells.len() != 7 {
+                return None;
+            }
+            Some(ReferenceRow {
+                scene: cells[0].to_string(),
+                spp: cells[2].parse().ok()?,
+                quiet_seconds: cells[3].parse().ok(),
+                rendered_seconds: cells[4].parse().ok()?,
+                mrse: cells[5].parse().ok()?,
+            })
+        })
+        .collect()
+}
+
+fn io_error(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
+    move |source| Error::Io {
+        path: path.display().to_string(),
+        source,
+    }
+}
+
+/// The CPU model and the number of cores this process may use.
+fn machine() -> String {
+    let model = std::fs::read_to_string("/proc/cpuinfo")
+        .ok()
+        .and_then(|info| {
+            info.lines()
+                .find(|l| l.starts_with("model name"))
+                .and_then(|l| l.split(':').nth(1))
+                .map(|m| m.trim().to_string())
+        })
+        .unwrap_or_else(|| "unknown CPU".into());
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    let memory = std::fs::read_to_string("/proc/meminfo").ok().and_then(|info| {
+        let line = info.lines().find(|l| l.starts_with("MemTotal:"))?;
+        let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+        Some(format!(", {:.0} GiB memory", kb / (1024.0 * 1024.0)))
+    });
+    format!("{model}, {cores} cores{}", memory.unwrap_or_default())
+}
+
+/// The checked-out commit (with "+ changes" if the tree is dirty).
+fn commit() -> String {
+    let git = |args: &[&str]| {
+        std::process::Command::new("git")
+            .args(args)
+            .output()
+            .ok()
+            .filter(|o| o.status.success())
+            .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string())
+    };
+    match git(&["rev-parse", "--short", "HEAD"]) {
+        Some(hash) => {
+            let dirty = git(&["status", "--porcelain", "--untracked-files=no"]).is_some_and(|s| !s.is_empty());
+            if dirty {
+                format!("{hash} + uncommitted changes")
+            } else {
+                hash
+            }
+        }
+        None => "unknown (not a git checkout)".into(),
+    }
+}
+
+/// Today's date (UTC), `YYYY-MM-DD`, from the system clock (days to civil
+/// date: Hinnant's algorithm).
+fn today() -> String {
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs()) as i64;
+    let z = secs.div_euclid(86_400) + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    format!("{year:04}-{month:02}-{day:02}")
+}
+
+/// Peak memory (MB) of a child `rpbrt --stats` render of `scene` at 1 spp.
+fn peak_memory_mb(scene: &Path, threads: usize, out: &Path) -> Option<u64> {
+    let exe = std::env::current_exe().ok()?;
+    let output = std::process::Command::new(exe)
+        .arg(scene)
+        .args(["--spp", "1", "--quiet", "--stats", "--nthreads", &threads.to_string(), "--outfile"])
+        .arg(out)
+        .output()
+        .ok()?;
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    stdout
+        .lines()
+        .find_map(|l| l.strip_prefix("peak memory: ")?.strip_suffix(" MB")?.parse().ok())
+}
+
+fn median(mut values: Vec<f64>) -> Option<f64> {
+    values.sort_by(f64::total_cmp);
+    let n = values.len();
+    match n {
+        0 => None,
+        _ if n % 2 == 1 => Some(values[n / 2]),
+        _ => Some(0.5 * (values[n / 2 - 1] + values[n / 2])),
+    }
+}
+
+/// What the report says about one scene.
+struct SceneResult {
+    name: String,
+    runs: Vec<Run>,
+    rows: Vec<ReferenceRow>,
+    peak_mb: Option<u64>,
+    plot: String,
+}
+
+/// Formats a ratio with the goal it is held to.
+fn ratio_text(ratio: f64, extrapolated: bool) -> String {
+    format!("{ratio:.2}×{}", if extrapolated { " (extrap.)" } else { "" })
+}
+
+pub fn run(args: &ReportArgs) -> Result<(), Error> {
+    let readme_path = args.shared.join("refs/README.md");
+    let readme = std::fs::read_to_string(&readme_path).map_err(io_error(&readme_path))?;
+    let table = parse_reference_table(&readme);
+    let mut names: Vec<String> = Vec::new();
+    for row in &table {
+        if !names.contains(&row.scene) {
+            names.push(row.scene.clone());
+        }
+    }
+    if let Some(only) = &args.scenes {
+        names.retain(|n| only.contains(n));
+    }
+    let docs = args.out.parent().unwrap_or(Path::new("."));
+    let plots = docs.join("performance");
+    std::fs::create_dir_all(&plots).map_err(io_error(&plots))?;
+    let threads = args.nthreads.max(1);
+
+    let mut results = Vec::new();
+    let mut skipped = Vec::new();
+    for name in &names {
+        let rows: Vec<ReferenceRow> = table.iter().filter(|r| &r.scene == name).cloned().collect();
+        let scene = args.shared.join(format!("scenes/derived/{name}.pbrt"));
+        let reference = args.shared.join(format!("refs/{name}-ref.exr"));
+        let mut spp: Vec<u32> = rows.iter().map(|r| r.spp).collect();
+        if let Some(max) = args.max_spp {
+            spp.iter_mut().for_each(|s| *s = (*s).min(max));
+            spp.dedup();
+        }
+        let work = args.work.join(name);
+        eprintln!("{name}: rendering at {spp:?} spp, {} seeds each", args.repeat);
+        let m = Measurement {
+            scene: &scene,
+            reference: &reference,
+            spp: &spp,
+            repeat: args.repeat,
+            threads,
+            pbrt: args.pbrt.as_deref(),
+            out: &work,
+            progress: true,
+        };
+        let runs = match convergence::measure(&m) {
+            Ok(runs) => runs,
+            Err(e) => {
+                eprintln!("{name}: skipped: {e}");
+                skipped.push(format!("{name}: {e}"));
+                continue;
+            }
+        };
+        // pbrt-v4's listed figures, as a curve beside the measured ones.
+        let listed = Series {
+            label: "pbrt-v4 (listed)".into(),
+            colour: ORANGE.map(|c| 0.5 + 0.5 * c),
+            points: rows
+                .iter()
+                .map(|r| (r.quiet_seconds.unwrap_or(r.rendered_seconds), r.mrse))
+                .collect(),
+        };
+        convergence::write_results(&work, name, &runs, vec![listed])?;
+        let plot_name = format!("{name}-convergence.png");
+        let plot = plots.join(&plot_name);
+        std::fs::copy(work.join("convergence.png"), &plot).map_err(io_error(&plot))?;
+        let peak_mb = peak_memory_mb(&scene, threads, &work.join("peak-memory.exr"));
+        results.push(SceneResult { name: name.clone(), runs, rows, peak_mb, plot: plot_name });
+    }
+    let dual = dual_model_section(args, threads)?;
+    let text = markdown(args, &results, &skipped, &dual);
+    std::fs::write(&args.out, text).map_err(io_error(&args.out))?;
+    eprintln!("wrote {}", args.out.display());
+    Ok(())
+}
+
+/// The dual-model overhead table (the paper's Table 2 form): the shipped
+/// dual-model hair scene and its circular twin, timed the same way.
+fn dual_model_section(args: &ReportArgs, threads: usize) -> Result<String, Error> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("pbrt-scenes");
+    let (dual, circular) = (root.join("hair-dual.pbrt"), root.join("hair-dual-circular.pbrt"));
+    let mut text = String::from("## Dual model overhead (the paper's Table 2)\n\n");
+    if !dual.exists() || !circular.exists() {
+        let _ = writeln!(
+            text,
+            "Not measured: `pbrt-scenes/hair-dual.pbrt` and its circular twin `pbrt-scenes/hair-dual-circular.pbrt` \
+             are not in this checkout yet (the dual model's issue adds them). `rpbrt report` fills this table once they exist."
+        );
+        return Ok(text);
+    }
+    let work = args.work.join("dual");
+    std::fs::create_dir_all(&work).map_err(io_error(&work))?;
+    let time = |scene: &Path, label: &str| -> Result<f64, Error> {
+        let mut seconds = Vec::new();
+        for k in 0..args.repeat.max(1) {
+            let overrides = RenderOverrides {
+                spp: Some(args.dual_spp),
+                seed: Some(100 + k as i32),
+                outfile: Some(work.join(format!("{label}-{k}.exr"))),
+                ..Default::default()
+            };
+            let start = Instant::now();
+            render_file(scene, &overrides, threads, false)?;
+            seconds.push(start.elapsed().as_secs_f64());
+        }
+        Ok(median(seconds).unwrap_or(0.0))
+    };
+    let circular_s = time(&circular, "circular")?;
+    let dual_s = time(&dual, "dual")?;
+    let _ = writeln!(
+        text,
+        "Whole-render seconds (median of {} seeds, {} spp, {threads} threads), rpbrt only; the paper's Table 2 compares \
+         its dual model with the circular, ray-only model of [CBTB16] in the same way.\n",
+        args.repeat.max(1),
+        args.dual_spp
+    );
+    let _ = writeln!(text, "| scene | circular model (pbrt-v4's hair) | dual model | overhead |\n|---|---|---|---|");
+    let _ = writeln!(
+        text,
+        "| `hair-dual.pbrt` vs `hair-dual-circular.pbrt` | {circular_s:.2} s | {dual_s:.2} s | {:.2}× |",
+        dual_s / circular_s.max(1e-9)
+    );
+    Ok(text)
+}
+
+fn markdown(args: &ReportArgs, results: &[SceneResult], skipped: &[String], dual: &str) -> String {
+    let mut t = String::new();
+    let _ = writeln!(t, "# Performance\n");
+    let _ = writeln!(
+        t,
+        "<!-- Generated by `cargo run --release -- report --out docs/performance.md` (src/tools/report.rs); \
+         do not edit by hand: hand-written notes go in performance-notes.md. -->\n"
+    );
+    let _ = writeln!(
+        t,
+        "Goal (issue 6): at equal error, **≤ 0.5× pbrt-v4's time on hair scenes, ≤ 1× elsewhere**.\n\n\
+         Measured {} on {} at commit {}, {} render threads, {} seeds per sample count{}. \
+         Hand-written notes (profiles, benchmarks, parser figures): [performance-notes.md](performance-notes.md).\n",
+        today(),
+        machine(),
+        commit(),
+        args.nthreads,
+        args.repeat.max(1),
+        args.max_spp.map_or(String::new(), |m| format!(
+            " — **trial run capped at {m} spp: these figures are not comparable with pbrt-v4's**"
+        ))
+    );
+    let _ = writeln!(
+        t,
+        "## How it is measured\n\n\
+         - Scenes, references and pbrt-v4's figures: the table of `../shared/refs/README.md` (scenes from \
+         `../shared/scenes/derived/`). rpbrt renders each at pbrt-v4's listed sample counts with seeds 100, 101, …; \
+         error is MRSE against `NAME-ref.exr` as that README defines it, time the whole render (parse, build, render, \
+         write; in-process, so without process start-up), both averaged over the seeds.\n\
+         - **Equal-error time ratio**: rpbrt's time to reach pbrt-v4's MRSE at a listed spp, interpolated linearly on \
+         rpbrt's log–log error-over-time curve (the end segment extended when pbrt-v4's error lies outside rpbrt's \
+         measured range, marked \"extrap.\"), divided by pbrt-v4's time at that spp. The pbrt-v4 time is the README's \
+         **quiet median of 3** where it has one: its \"as rendered\" times were taken while other work shared the \
+         machine (up to 2.5× slower), so ratios against them, shown for the other sample counts, flatter rpbrt.{}\n\
+         - Parse: scene file → scene description; build: shapes, lights, materials and BVH (medians over the renders). \
+         Peak memory: `VmHWM` of a separate `rpbrt --stats` process rendering the scene at 1 spp (the film and scene \
+         dominate; it does not grow with spp).\n",
+        if args.pbrt.is_some() {
+            " With `--pbrt`, pbrt-v4 was also run in this same run (same spp, seeds, threads); those \
+             same-run ratios are the fairest comparison."
+        } else {
+            ""
+        }
+    );
+    let _ = writeln!(t, "## Summary\n");
+    let _ = writeln!(
+        t,
+        "| scene | kind | equal-error time ratio vs pbrt-v4 (quiet median) | goal | parse s | build s | peak memory |\n|---|---|---|---|---|---|---|"
+    );
+    for r in results {
+        let hair = r.name.starts_with("hair");
+        let points: Vec<(f64, f64)> = curve(&r.runs, Renderer::Rpbrt).iter().map(|&(_, s, e)| (s, e)).collect();
+        let headline = r
+            .rows
+            .iter()
+            .find_map(|row| Some((row, row.quiet_seconds?)))
+            .and_then(|(row, quiet)| time_at_error(&points, row.mrse).map(|(s, x)| (s / quiet, x, row.spp)));
+        let goal = if hair { 0.5 } else { 1.0 };
+        let ratio = headline.map_or("—".into(), |(ratio, x, spp)| {
+            format!("{} at pbrt's {spp} spp{}", ratio_text(ratio, x), if ratio <= goal { " ✓" } else { "" })
+        });
+        let of = |f: fn(&Run) -> Option<f64>| {
+            median(r.runs.iter().filter_map(f).collect()).map_or("—".into(), |v| format!("{v:.3}"))
+        };
+        let _ = writeln!(
+            t,
+            "| {} | {} | {ratio} | ≤ {goal}× | {} | {} | {} |",
+            r.name,
+            if hair { "hair" } else { "other" },
+            of(|r| r.parse_seconds),
+            of(|r| r.build_seconds),
+            r.peak_mb.map_or("—".into(), |mb| format!("{mb} MB"))
+        );
+    }
+    for s in skipped {
+        let _ = writeln!(t, "\nSkipped: {s}");
+    }
+    for r in results {
+        let _ = writeln!(t, "\n## {}\n\n![{} convergence](performance/{})\n", r.name, r.name, r.plot);
+        let _ = writeln!(t, "| renderer | spp | seconds (mean) | MRSE (mean) |\n|---|---|---|---|");
+        for renderer in [Renderer::Rpbrt, Renderer::Pbrt] {
+            for (spp, s, e) in curve(&r.runs, renderer) {
+                let _ = writeln!(t, "| {} (this run) | {spp} | {s:.3} | {e:.6} |", renderer.name());
+            }
+        }
+        for row in &r.rows {
+            let (s, which) = row.quiet_seconds.map_or((row.rendered_seconds, "as rendered"), |q| (q, "quiet median"));
+            let _ = writeln!(t, "| pbrt-v4 (refs README, {which}) | {} | {s:.3} | {:.6} |", row.spp, row.mrse);
+        }
+        let points: Vec<(f64, f64)> = curve(&r.runs, Renderer::Rpbrt).iter().map(|&(_, s, e)| (s, e)).collect();
+        let _ = writeln!(t, "\n| pbrt-v4 spp | pbrt-v4 MRSE | pbrt-v4 s | rpbrt s at that MRSE | ratio |\n|---|---|---|---|---|");
+        for row in &r.rows {
+            let (s, which) = row.quiet_seconds.map_or((row.rendered_seconds, " (as rendered)"), |q| (q, " (quiet)"));
+            let ours = time_at_error(&points, row.mrse);
+            let _ = writeln!(
+                t,
+                "| {} | {:.6} | {s:.2}{which} | {} | {} |",
+                row.spp,
+                row.mrse,
+                ours.map_or("—".into(), |(o, _)| format!("{o:.2}")),
+                ours.map_or("—".into(), |(o, x)| ratio_text(o / s, x))
+            );
+        }
+        let pbrt_curve = curve(&r.runs, Renderer::Pbrt);
+        if !pbrt_curve.is_empty() {
+            let _ = writeln!(t, "\nSame run, against the pbrt-v4 binary:\n\n| spp | pbrt-v4 s | pbrt-v4 MRSE | rpbrt s at that MRSE | ratio |\n|---|---|---|---|---|");
+            for (spp, s, e) in pbrt_curve {
+                let ours = time_at_error(&points, e);
+                let _ = writeln!(
+                    t,
+                    "| {spp} | {s:.2} | {e:.6} | {} | {} |",
+                    ours.map_or("—".into(), |(o, _)| format!("{o:.2}")),
+                    ours.map_or("—".into(), |(o, x)| ratio_text(o / s, x))
+                );
+            }
+        }
+    }
+    let _ = writeln!(t, "\n{dual}");
+    t
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reads_the_refs_table() {
+        let readme = "| scene | ref spp | spp | q | r | MRSE | block bias |\n|---|---|---|---|---|---|---|\n\
+                      | hair-curl-300 | 1024 | 16 | — | 1.37 | 0.001554 | 0.0032 |\n\
+                      | hair-curl-300 | 1024 | 64 | 2.55 | 5.09 | 0.0003927 | 0.0022 |\n";
+        let rows = parse_reference_table(readme);
+        assert_eq!(rows.len(), 2);
+        assert_eq!(
+            rows[1],
+            ReferenceRow {
+                scene: "hair-curl-300".into(),
+                spp: 64,
+                quiet_seconds: Some(2.55),
+                rendered_seconds: 5.09,
+                mrse: 0.0003927
+            }
+        );
+        assert_eq!(rows[0].quiet_seconds, None);
+    }
+
+    #[test]
+    fn dates_and_medians() {
+        assert_eq!(median(vec![3.0, 1.0, 2.0]), Some(2.0));
+        assert_eq!(median(vec![4.0, 1.0]), Some(2.5));
+        assert_eq!(median(vec![]), None);
+        let d = today();
+        assert!(d.len() == 10 && d.starts_with("20"), "{d}");
+    }
+}
