@@ -6,7 +6,7 @@
 //! index and the caller intersects it exactly.
 
 use crate::math::{Bounds3, Ray};
-use glam::Vec3A;
+use glam::{Vec3, Vec3A};
 use obvhs::aabb::Aabb;
 use obvhs::cwbvh::builder::build_cwbvh;
 use obvhs::cwbvh::CwBvh;
@@ -26,6 +26,14 @@ impl Bvh {
     /// caller should lay out its primitives (index `i` of the new layout is
     /// the caller's primitive `order[i]`).
     pub fn build(bounds: &[Bounds3]) -> (Bvh, Vec<u32>) {
+        Self::build_from(bounds, 0)
+    }
+
+    /// As [`Bvh::build`], for primitives stored from index `first` of the
+    /// caller's array: the traversal reports `first + i` (an object's
+    /// primitives share one array with the scene's; see `accel::instance`).
+    /// `order` is still relative (`0..bounds.len()`).
+    pub fn build_from(bounds: &[Bounds3], first: u32) -> (Bvh, Vec<u32>) {
         let total = bounds.iter().fold(Bounds3::EMPTY, |a, b| a.union(*b));
         if bounds.is_empty() {
             return (
@@ -44,7 +52,7 @@ impl Bvh {
         let mut tree = build_cwbvh(&aabbs, BvhBuildParams::medium_build(), &mut build_time);
         let order = std::mem::take(&mut tree.primitive_indices);
         // Leaves now index the caller's reordered array directly.
-        tree.primitive_indices = (0..order.len() as u32).collect();
+        tree.primitive_indices = (first..first + order.len() as u32).collect();
         (
             Bvh {
                 tree: Some(tree),
@@ -59,9 +67,12 @@ impl Bvh {
     }
 
     fn obvhs_ray(ray: &Ray, t_max: f32) -> obvhs::ray::Ray {
+        // `+ 0.0` turns −0 into +0: obvhs 0.4's traversal misses every box
+        // for a direction with a −0 component (as a transformed ray or
+        // `-v` of an axis-aligned vector has).
         obvhs::ray::Ray::new(
             Vec3A::from(ray.origin),
-            Vec3A::from(ray.direction),
+            Vec3A::from(ray.direction + Vec3::ZERO),
             0.0,
             t_max,
         )
@@ -100,7 +111,9 @@ impl Bvh {
         };
         !tree.ray_traverse_miss(Self::obvhs_ray(ray, t_max), |r, i| {
             if hits(tree.primitive_indices[i] as usize, r.tmax) {
-                0.5 * r.tmax
+                // Any distance below t_max ends the traversal (finite even
+                // for an unbounded ray).
+                0.5 * r.tmax.min(f32::MAX)
             } else {
                 f32::INFINITY
             }
@@ -173,6 +186,17 @@ mod tests {
             });
             assert_eq!(any, brute.is_finite());
         }
+    }
+
+    #[test]
+    fn negative_zero_directions_hit() {
+        let (bvh, _) = Bvh::build(&[Bounds3 {
+            min: Vec3::new(-1.0, -4.0, -1.0),
+            max: Vec3::new(1.0, 4.0, 1.0),
+        }]);
+        let ray = Ray::new(Vec3::new(1.8, 9.6, 0.0), Vec3::new(-1.2, -6.4, -0.0), 0.0);
+        assert!(bvh.closest_hit(&ray, f32::INFINITY, |_, _| Some(1.0)).is_some());
+        assert!(bvh.any_hit(&ray, f32::INFINITY, |_, _| true));
     }
 
     #[test]

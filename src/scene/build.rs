@@ -3,6 +3,7 @@
 //! The built scene is immutable and shared by all render threads.
 
 use super::description::{MaterialRef, SceneDescription, TextureValue};
+use crate::accel::instance::{build_levels, InstanceAccel};
 use crate::accel::Bvh;
 use crate::cameras::Camera;
 use crate::error::{scene_error, Result};
@@ -67,7 +68,11 @@ pub struct BuiltScene {
     pub shapes: ShapeStorage,
     /// In BVH order.
     pub primitives: Vec<Primitive>,
+    /// Over the top-level primitives.
     pub bvh: Bvh,
+    /// Object instances (their primitives follow the top level's in
+    /// `primitives`).
+    pub instances: InstanceAccel,
     pub materials: Vec<Material>,
     pub lights: Vec<Light>,
     pub infinite_lights: Vec<usize>,
@@ -80,13 +85,28 @@ impl BuiltScene {
     /// kept light until the closest one is known (building a curve's
     /// interaction costs more than finding it).
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<(SurfaceInteraction, &Primitive)> {
+        let mut found = self.intersect_bvh(&self.bvh, ray, t_max);
+        let t_max = found.as_ref().map_or(t_max, |si| si.t);
+        if let Some(si) = self
+            .instances
+            .intersect(ray, t_max, |bvh, ray, t_max| self.intersect_bvh(bvh, ray, t_max))
+        {
+            found = Some(si);
+        }
+        let si = found?;
+        Some((si, &self.primitives[si.primitive as usize]))
+    }
+
+    /// The closest hit among the primitives of one BVH (the top level's or
+    /// an object's, in its own space), with `primitive` and `t` set.
+    fn intersect_bvh(&self, bvh: &Bvh, ray: &Ray, t_max: f32) -> Option<SurfaceInteraction> {
         enum Best {
             Full(SurfaceInteraction, usize),
             Curve(crate::shapes::curve::CurveHit, u32, usize),
         }
         let frame = crate::shapes::curve::RayFrame::new(ray)?;
         let mut best = None;
-        self.bvh.closest_hit(ray, t_max, |i, t_max| {
+        bvh.closest_hit(ray, t_max, |i, t_max| {
             let prim = &self.primitives[i];
             if let Shape::Curve(c) = prim.shape {
                 let (piece, segment) = self.shapes.curve(c);
@@ -104,12 +124,20 @@ impl BuiltScene {
             Best::Curve(hit, c, i) => (hit.interaction(self.shapes.curve(c).1, ray), i),
         };
         si.primitive = i as u32;
-        Some((si, &self.primitives[i]))
+        Some(si)
     }
 
     /// Whether anything lies on `ray` before `t_max`.
     pub fn intersect_p(&self, ray: &Ray, t_max: f32) -> bool {
-        self.bvh.any_hit(ray, t_max, |i, t_max| {
+        self.intersect_p_bvh(&self.bvh, ray, t_max)
+            || self.instances.intersect_p(ray, t_max, |bvh, ray, t_max| {
+                self.intersect_p_bvh(bvh, ray, t_max)
+            })
+    }
+
+    /// Whether any primitive of one BVH lies on `ray` before `t_max`.
+    fn intersect_p_bvh(&self, bvh: &Bvh, ray: &Ray, t_max: f32) -> bool {
+        bvh.any_hit(ray, t_max, |i, t_max| {
             self.primitives[i]
                 .shape
                 .intersect_p(&self.shapes, ray, t_max)
@@ -146,9 +174,6 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
             "participating media are not supported yet",
             &m.entity.location.0,
         );
-    }
-    if let Some(i) = scene.instances.first() {
-        return scene_error("object instancing is not supported yet", &i.location.0);
     }
     if scene.camera.camera_from_world.is_animated() {
         return scene_error(
@@ -229,7 +254,11 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
     let mut shapes = ShapeStorage::default();
     let mut primitives = Vec::new();
     let mut lights: Vec<Light> = Vec::new();
-    for shape in &scene.shapes {
+    let plan = super::instancing::plan(scene, &render_from_world, &mut warnings)?;
+    // Where each group (top level, then each instanced object) ends.
+    let mut group_ends = vec![0; plan.object_count + 1];
+    for placement in &plan.placements {
+        let shape = placement.shape;
         let loc = &shape.entity.location.0;
         let transform = scene.transform(shape.world_from_object);
         if transform.is_animated() {
@@ -238,7 +267,10 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
         if !shape.inside_medium.is_empty() || !shape.outside_medium.is_empty() {
             return scene_error("participating media are not supported yet", loc);
         }
-        let render_from_object = render_from_world.then(&transform.start);
+        let mut render_from_object = render_from_world.then(&transform.start);
+        if let Some(instance) = &placement.render_from_instance {
+            render_from_object = instance.then(&render_from_object);
+        }
         let material = match &shape.material {
             MaterialRef::Anonymous(i) => *i as u32,
             MaterialRef::Named(name) => match named_index.get(name.as_str()) {
@@ -289,19 +321,29 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
                 area_light,
             });
         }
+        group_ends[placement.group] = primitives.len();
     }
     for light in &scene.lights {
         lights.push(lights::create_light(light, &render_from_world, base)?);
     }
 
-    // The BVH, and primitives in its order.
+    // The BVHs (top level, each instanced object), primitives in their
+    // order, and the instances.
     let bounds: Vec<Bounds3> = primitives.iter().map(|p| p.shape.bounds(&shapes)).collect();
-    let (bvh, order) = Bvh::build(&bounds);
+    let object_ranges: Vec<std::ops::Range<usize>> = (1..group_ends.len())
+        .map(|g| group_ends[g - 1]..group_ends[g])
+        .collect();
+    let (bvh, objects, order) = build_levels(&bounds, group_ends[0], &object_ranges);
     let primitives: Vec<Primitive> = order
         .iter()
         .map(|&i| primitives[i as usize].clone())
         .collect();
-    let (center, radius) = bvh.bounds().bounding_sphere();
+    let instances = if plan.instances.is_empty() {
+        InstanceAccel::empty()
+    } else {
+        InstanceAccel::build(objects, &plan.instances)
+    };
+    let (center, radius) = bvh.bounds().union(instances.bounds()).bounding_sphere();
     for l in &mut lights {
         l.preprocess(center, radius);
     }
@@ -336,6 +378,7 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
         shapes,
         primitives,
         bvh,
+        instances,
         materials,
         lights,
         infinite_lights,

@@ -4,6 +4,7 @@
 pub mod build;
 pub mod builder;
 pub mod description;
+pub mod instancing;
 pub mod params;
 pub mod schema;
 pub mod spectrum_param;
