@@ -6,8 +6,11 @@
 //!   instance places them by render-from-instance = render-from-world ×
 //!   (the transform at `ObjectInstance`) × world-from-render, as pbrt-v4.
 //! - An object used once is flattened: its shapes are created directly with
-//!   render-from-instance × render-from-object at the top level (same
-//!   image, no second level to traverse).
+//!   render-from-instance × render-from-object at the top level (no second
+//!   level to traverse) — unless the instance transform swaps handedness:
+//!   pbrt-v4 flips normals for a swapping render-from-object transform but
+//!   not for a swapping instance transform, so flattening would turn the
+//!   normals of its quadrics.
 //! - Instances of an object without shapes are skipped with a warning
 //!   (pbrt-v4 skips them silently).
 //! - Area lights inside objects: the scene builder already warned, as
@@ -49,6 +52,7 @@ pub fn plan<'a>(
 ) -> Result<InstancePlan<'a>> {
     let world_from_render = render_from_world.inverse();
     let mut uses = vec![0usize; scene.objects.len()];
+    let mut warned = vec![false; scene.objects.len()];
     for instance in &scene.instances {
         if scene.transform(instance.world_from_instance).is_animated() {
             return scene_error(
@@ -58,7 +62,7 @@ pub fn plan<'a>(
         }
         let object = &scene.objects[instance.object];
         if object.shapes.is_empty() {
-            if uses[instance.object] == 0 {
+            if !std::mem::replace(&mut warned[instance.object], true) {
                 warnings.push(Warning {
                     message: format!(
                         "object \"{}\" has no shapes; its instances are skipped",
@@ -91,7 +95,7 @@ pub fn plan<'a>(
             .then(&world_from_render);
         match uses[instance.object] {
             0 => {}
-            1 => placements.extend(object.shapes.iter().map(|shape| ShapePlacement {
+            1 if !render_from_instance.swaps_handedness() => placements.extend(object.shapes.iter().map(|shape| ShapePlacement {
                 shape,
                 render_from_instance: Some(render_from_instance),
                 group: 0,
