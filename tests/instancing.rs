@@ -105,3 +105,41 @@ fn instances_render_as_the_flattened_scene() {
     assert!(mean_abs_diff < 1e-3 * mean, "mean difference {mean_abs_diff}");
     assert!(differing * 100 <= pixels, "{differing} of {pixels} pixels differ");
 }
+
+fn build(world: &str) -> rpbrt::error::Result<rpbrt::scene::build::BuiltScene> {
+    let text = format!(
+        "Film \"rgb\" \"integer xresolution\" 8 \"integer yresolution\" 8\nWorldBegin\n{world}"
+    );
+    let loaded = rpbrt::scene::load_text(std::path::Path::new("instancing.pbrt"), &text)?;
+    rpbrt::scene::build::build(&loaded.scene, &Default::default())
+}
+
+/// Objects used twice are instanced, an object used once is flattened,
+/// instances of an empty object are skipped with a warning, and animated
+/// instance transforms are refused with a message.
+#[test]
+fn instancing_follows_pbrt_v4() {
+    let world = "ObjectBegin \"a\"\nShape \"sphere\"\nShape \"disk\"\nObjectEnd\n\
+                 ObjectBegin \"b\"\nShape \"sphere\"\nObjectEnd\n\
+                 ObjectBegin \"none\"\nObjectEnd\n\
+                 ObjectInstance \"a\"\nTranslate 3 0 0\nObjectInstance \"a\"\n\
+                 ObjectInstance \"b\"\nObjectInstance \"none\"\nObjectInstance \"none\"\n";
+    let scene = build(world).unwrap();
+    assert_eq!(scene.instances.len(), 2);
+    // "b" is flattened to the top level; "a"'s two shapes are stored once.
+    assert_eq!(scene.primitives.len(), 3);
+    let empty: Vec<_> = scene
+        .warnings
+        .iter()
+        .filter(|w| w.message.contains("has no shapes"))
+        .collect();
+    assert_eq!(empty.len(), 1, "{:?}", scene.warnings);
+
+    let animated = "ObjectBegin \"a\"\nShape \"sphere\"\nObjectEnd\n\
+                    ActiveTransform EndTime\nTranslate 1 0 0\nActiveTransform All\n\
+                    ObjectInstance \"a\"\n";
+    let Err(error) = build(animated) else {
+        panic!("an animated instance must be refused");
+    };
+    assert!(error.to_string().contains("animated object instances"), "{error}");
+}

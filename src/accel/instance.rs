@@ -128,6 +128,11 @@ impl InstanceAccel {
             }
             let mut si = intersect(&self.objects[instance.object as usize], &local, local_t_max)?;
             si.t += dt;
+            // (Rounding of t + dt must not let a farther hit replace a
+            // nearer one.)
+            if si.t >= t_max {
+                return None;
+            }
             let t = si.t;
             best = Some((si, i));
             Some(t)

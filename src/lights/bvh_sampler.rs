@@ -14,6 +14,7 @@ use super::light_bounds::{light_bounds, LightBounds};
 use super::{Light, LightSampleContext};
 use crate::math::{safe_sqrt, sqr, Bounds3};
 use crate::shapes::ShapeStorage;
+use glam::Vec3;
 use std::f32::consts::PI;
 
 /// pbrt's OneMinusEpsilon.
@@ -201,6 +202,17 @@ impl BvhLightSampler {
         (node, b)
     }
 
+    /// The importance at (p, n) of an interior node's two children, and
+    /// the second child's index.
+    fn children_importance(&self, index: usize, node: &Node, p: Vec3, n: Vec3) -> ([f32; 2], usize) {
+        let second = node.child_or_light as usize;
+        let importance = [
+            self.nodes[index + 1].bounds.importance(p, n),
+            self.nodes[second].bounds.importance(p, n),
+        ];
+        (importance, second)
+    }
+
     fn p_infinite(&self) -> f32 {
         let n = self.infinite.len() as f32;
         n / (n + if self.nodes.is_empty() { 0.0 } else { 1.0 })
@@ -231,11 +243,7 @@ impl BvhLightSampler {
                 }
                 return None;
             }
-            let second = node.child_or_light as usize;
-            let importance = [
-                self.nodes[node_index + 1].bounds.importance(p, n),
-                self.nodes[second].bounds.importance(p, n),
-            ];
+            let (importance, second) = self.children_importance(node_index, node, p, n);
             if importance[0] == 0.0 && importance[1] == 0.0 {
                 return None;
             }
@@ -268,11 +276,7 @@ impl BvhLightSampler {
                 }
                 break;
             }
-            let second = node.child_or_light as usize;
-            let importance = [
-                self.nodes[node_index + 1].bounds.importance(p, n),
-                self.nodes[second].bounds.importance(p, n),
-            ];
+            let (importance, second) = self.children_importance(node_index, node, p, n);
             let taken = (trail & 1) as usize;
             if importance[taken] == 0.0 {
                 return 0.0;

@@ -81,9 +81,8 @@ pub struct BuiltScene {
 }
 
 impl BuiltScene {
-    /// The closest surface hit by `ray` before `t_max`. Curve hits are
-    /// kept light until the closest one is known (building a curve's
-    /// interaction costs more than finding it).
+    /// The closest surface hit by `ray` before `t_max`: the top level's,
+    /// then the instances' (nearer than it).
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<(SurfaceInteraction, &Primitive)> {
         let mut found = self.intersect_bvh(&self.bvh, ray, t_max);
         let t_max = found.as_ref().map_or(t_max, |si| si.t);
@@ -98,7 +97,9 @@ impl BuiltScene {
     }
 
     /// The closest hit among the primitives of one BVH (the top level's or
-    /// an object's, in its own space), with `primitive` and `t` set.
+    /// an object's, in its own space), with `primitive` and `t` set. Curve
+    /// hits are kept light until the closest one is known (building a
+    /// curve's interaction costs more than finding it).
     fn intersect_bvh(&self, bvh: &Bvh, ray: &Ray, t_max: f32) -> Option<SurfaceInteraction> {
         enum Best {
             Full(SurfaceInteraction, usize),
