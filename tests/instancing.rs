@@ -65,7 +65,8 @@ fn instanced() -> String {
             "AttributeBegin\n  {placement}\n  ObjectInstance \"thing\"\nAttributeEnd\n"
         ));
     }
-    world.push_str("AttributeBegin\n  Translate 0 1.5 0\n  ObjectInstance \"once\"\nAttributeEnd\n");
+    world
+        .push_str("AttributeBegin\n  Translate 0 1.5 0\n  ObjectInstance \"once\"\nAttributeEnd\n");
     scene(&world)
 }
 
@@ -73,7 +74,9 @@ fn instanced() -> String {
 fn flattened() -> String {
     let mut world = String::new();
     for placement in PLACEMENTS {
-        world.push_str(&format!("AttributeBegin\n  {placement}\n{OBJECT}AttributeEnd\n"));
+        world.push_str(&format!(
+            "AttributeBegin\n  {placement}\n{OBJECT}AttributeEnd\n"
+        ));
     }
     world.push_str(
         "AttributeBegin\n  Translate 0 1.5 0\n  Shape \"sphere\" \"float radius\" 0.3\nAttributeEnd\n",
@@ -92,18 +95,30 @@ fn instances_render_as_the_flattened_scene() {
     let (a, b) = (a.rgb_data(), b.rgb_data());
     assert_eq!(a.len(), b.len());
     let mean = b.iter().map(|&v| v as f64).sum::<f64>() / b.len() as f64;
-    let mean_abs_diff =
-        a.iter().zip(&b).map(|(&x, &y)| (x - y).abs() as f64).sum::<f64>() / a.len() as f64;
+    let mean_abs_diff = a
+        .iter()
+        .zip(&b)
+        .map(|(&x, &y)| (x - y).abs() as f64)
+        .sum::<f64>()
+        / a.len() as f64;
     let pixels = a.len() / 3;
     let differing = (0..pixels)
-        .filter(|&p| (0..3).any(|c| (a[3 * p + c] - b[3 * p + c]).abs() > 1e-3 * (1.0 + b[3 * p + c].abs())))
+        .filter(|&p| {
+            (0..3).any(|c| (a[3 * p + c] - b[3 * p + c]).abs() > 1e-3 * (1.0 + b[3 * p + c].abs()))
+        })
         .count();
     eprintln!(
         "mean {mean:.5}; mean |instanced − flattened| {mean_abs_diff:.3e}; pixels differing by > 1e-3: {differing} of {pixels}"
     );
     assert!(mean > 0.01, "the scene is lit");
-    assert!(mean_abs_diff < 1e-3 * mean, "mean difference {mean_abs_diff}");
-    assert!(differing * 100 <= pixels, "{differing} of {pixels} pixels differ");
+    assert!(
+        mean_abs_diff < 1e-3 * mean,
+        "mean difference {mean_abs_diff}"
+    );
+    assert!(
+        differing * 100 <= pixels,
+        "{differing} of {pixels} pixels differ"
+    );
 }
 
 fn build(world: &str) -> rpbrt::error::Result<rpbrt::scene::build::BuiltScene> {
@@ -141,5 +156,8 @@ fn instancing_follows_pbrt_v4() {
     let Err(error) = build(animated) else {
         panic!("an animated instance must be refused");
     };
-    assert!(error.to_string().contains("animated object instances"), "{error}");
+    assert!(
+        error.to_string().contains("animated object instances"),
+        "{error}"
+    );
 }

@@ -58,8 +58,14 @@ fn bvh_sampler_converges_to_the_power_sampler_with_less_error() {
             seed: Some(seed),
             ..Default::default()
         };
-        common::render_text(&format!("lbvh-{sampler}-{spp}"), &scene(sampler), spp, 2, overrides)
-            .rgb_data()
+        common::render_text(
+            &format!("lbvh-{sampler}-{spp}"),
+            &scene(sampler),
+            spp,
+            2,
+            overrides,
+        )
+        .rgb_data()
     };
     let mean = |v: &[f32]| v.iter().map(|&x| x as f64).sum::<f64>() / v.len() as f64;
     // The reference: both samplers at high spp, averaged.
@@ -80,6 +86,12 @@ fn bvh_sampler_converges_to_the_power_sampler_with_less_error() {
         e_power / e_bvh
     );
     // Means agree within the noise of a 256-spp image mean (< 1 %).
-    assert!(((m_bvh - m_power) / m_power).abs() < 0.01, "means {m_bvh} vs {m_power}");
-    assert!(e_bvh < e_power, "bvh MRSE {e_bvh} not below power's {e_power}");
+    assert!(
+        ((m_bvh - m_power) / m_power).abs() < 0.01,
+        "means {m_bvh} vs {m_power}"
+    );
+    assert!(
+        e_bvh < e_power,
+        "bvh MRSE {e_bvh} not below power's {e_power}"
+    );
 }

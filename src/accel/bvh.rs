@@ -195,7 +195,9 @@ mod tests {
             max: Vec3::new(1.0, 4.0, 1.0),
         }]);
         let ray = Ray::new(Vec3::new(1.8, 9.6, 0.0), Vec3::new(-1.2, -6.4, -0.0), 0.0);
-        assert!(bvh.closest_hit(&ray, f32::INFINITY, |_, _| Some(1.0)).is_some());
+        assert!(bvh
+            .closest_hit(&ray, f32::INFINITY, |_, _| Some(1.0))
+            .is_some());
         assert!(bvh.any_hit(&ray, f32::INFINITY, |_, _| true));
     }
 

@@ -46,7 +46,9 @@ pub struct InstanceAccel {
 fn ray_to_instance(transform: &ObjectTransform, ray: &Ray) -> (Ray, f32) {
     let (mut origin, error) =
         transform_point_with_error(&transform.object_from_render, ray.origin, glam::Vec3::ZERO);
-    let direction = transform.object_from_render.transform_vector3(ray.direction);
+    let direction = transform
+        .object_from_render
+        .transform_vector3(ray.direction);
     let length_squared = direction.length_squared();
     let mut dt = 0.0;
     if length_squared > 0.0 {
@@ -85,10 +87,7 @@ impl InstanceAccel {
             })
             .collect();
         let (top, order) = Bvh::build(&bounds);
-        let instances = order
-            .iter()
-            .map(|&i| placed[i as usize].clone())
-            .collect();
+        let instances = order.iter().map(|&i| placed[i as usize].clone()).collect();
         InstanceAccel {
             objects,
             instances,
@@ -231,12 +230,25 @@ mod tests {
         let si = intersect(&accel, &storage, &sphere, &ray).expect("hit");
         let z = (1.0f64 - 0.0625).sqrt();
         let exact = [10.5, 0.0, -2.0 * z];
-        assert!((si.t as f64 - (10.0 - 2.0 * z)).abs() < 1e-5, "t = {}", si.t);
-        assert!((si.n - Vec3::new(0.25, 0.0, -z as f32)).length() < 1e-5, "n = {}", si.n);
+        assert!(
+            (si.t as f64 - (10.0 - 2.0 * z)).abs() < 1e-5,
+            "t = {}",
+            si.t
+        );
+        assert!(
+            (si.n - Vec3::new(0.25, 0.0, -z as f32)).length() < 1e-5,
+            "n = {}",
+            si.n
+        );
         // The error bound covers the point's distance from the exact one.
-        for axis in 0..3 {
-            let off = (si.p[axis] as f64 - exact[axis]).abs();
-            assert!(off <= si.p_error[axis] as f64, "{axis}: {} ± {}", si.p, si.p_error);
+        for (axis, exact) in exact.iter().enumerate() {
+            let off = (si.p[axis] as f64 - exact).abs();
+            assert!(
+                off <= si.p_error[axis] as f64,
+                "{axis}: {} ± {}",
+                si.p,
+                si.p_error
+            );
         }
         // An oblique ray: the hit lies on the radius-2 sphere, its normal
         // radial; t in units of the render-space direction.

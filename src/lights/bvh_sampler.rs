@@ -1,6 +1,6 @@
 //! pbrt-v4's `BVHLightSampler` (`lightsampler "bvh"`, the default): lights
-//! at infinity are chosen uniformly, each with probability 1/(their count
-//! + 1 if there are bounded lights); the rest are chosen by walking a BVH
+//! at infinity are chosen uniformly, each with probability 1 / (their count,
+//! plus one if there are bounded lights); the rest are chosen by walking a BVH
 //! over their [`LightBounds`], picking each child with probability
 //! proportional to its importance at the shading point (p, ns).
 //!
@@ -165,7 +165,8 @@ impl BvhLightSampler {
                 let above = buckets[split + 1..]
                     .iter()
                     .fold(LightBounds::default(), |acc, b| acc.union(*b));
-                let cost = evaluate_cost(&below, &bounds, dim) + evaluate_cost(&above, &bounds, dim);
+                let cost =
+                    evaluate_cost(&below, &bounds, dim) + evaluate_cost(&above, &bounds, dim);
                 if cost > 0.0 && best.is_none_or(|(c, _, _)| cost < c) {
                     best = Some((cost, split, dim));
                 }
@@ -192,7 +193,13 @@ impl BvhLightSampler {
             is_leaf: false,
         });
         let (_, b0) = self.build(lights, start..mid, bit_trail, depth + 1, all);
-        let (child1, b1) = self.build(lights, mid..end, bit_trail | (1u64 << depth), depth + 1, all);
+        let (child1, b1) = self.build(
+            lights,
+            mid..end,
+            bit_trail | (1u64 << depth),
+            depth + 1,
+            all,
+        );
         let b = b0.union(b1);
         self.nodes[node] = Node {
             bounds: b.quantized(all),
@@ -204,7 +211,13 @@ impl BvhLightSampler {
 
     /// The importance at (p, n) of an interior node's two children, and
     /// the second child's index.
-    fn children_importance(&self, index: usize, node: &Node, p: Vec3, n: Vec3) -> ([f32; 2], usize) {
+    fn children_importance(
+        &self,
+        index: usize,
+        node: &Node,
+        p: Vec3,
+        n: Vec3,
+    ) -> ([f32; 2], usize) {
         let second = node.child_or_light as usize;
         let importance = [
             self.nodes[index + 1].bounds.importance(p, n),
@@ -406,7 +419,11 @@ mod tests {
                         failed += 1;
                         continue;
                     };
-                    assert!((p - pmf[i]).abs() <= 1e-4 * pmf[i].max(1e-3), "{p} vs {}", pmf[i]);
+                    assert!(
+                        (p - pmf[i]).abs() <= 1e-4 * pmf[i].max(1e-3),
+                        "{p} vs {}",
+                        pmf[i]
+                    );
                     counts[i] += 1;
                 }
                 // The PMF sums to the probability that sampling finds a
@@ -414,7 +431,10 @@ mod tests {
                 // a node whose children both have zero importance.
                 let found = 1.0 - failed as f32 / n as f32;
                 assert!(total <= 1.0 + 1e-4, "PMF sums to {total}");
-                assert!((total - found).abs() < 2e-3, "PMF sums to {total}, sampling finds a light with probability {found}");
+                assert!(
+                    (total - found).abs() < 2e-3,
+                    "PMF sums to {total}, sampling finds a light with probability {found}"
+                );
                 if failed == 0 {
                     assert!((total - 1.0).abs() < 1e-4, "PMF sums to {total}");
                     sums_to_one += 1;

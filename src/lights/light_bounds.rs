@@ -249,8 +249,7 @@ pub fn light_bounds(light: &Light, shapes: &ShapeStorage) -> Option<LightBounds>
         // SpotLight::Bounds: φ as an isotropic point (the cone is in the
         // importance), θo the full-intensity cone, θe the falloff.
         Light::Spot(l) => {
-            let mut cos_theta_e =
-                (l.cos_falloff_end.acos() - l.cos_falloff_start.acos()).cos();
+            let mut cos_theta_e = (l.cos_falloff_end.acos() - l.cos_falloff_start.acos()).cos();
             // pbrt-v4's slack for round-off in the importance's cos θ'.
             if cos_theta_e == 1.0 && l.cos_falloff_end != l.cos_falloff_start {
                 cos_theta_e = 0.999;

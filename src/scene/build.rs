@@ -86,10 +86,9 @@ impl BuiltScene {
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<(SurfaceInteraction, &Primitive)> {
         let mut found = self.intersect_bvh(&self.bvh, ray, t_max);
         let t_max = found.as_ref().map_or(t_max, |si| si.t);
-        if let Some(si) = self
-            .instances
-            .intersect(ray, t_max, |bvh, ray, t_max| self.intersect_bvh(bvh, ray, t_max))
-        {
+        if let Some(si) = self.instances.intersect(ray, t_max, |bvh, ray, t_max| {
+            self.intersect_bvh(bvh, ray, t_max)
+        }) {
             found = Some(si);
         }
         let si = found?;

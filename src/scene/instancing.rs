@@ -95,11 +95,13 @@ pub fn plan<'a>(
             .then(&world_from_render);
         match uses[instance.object] {
             0 => {}
-            1 if !render_from_instance.swaps_handedness() => placements.extend(object.shapes.iter().map(|shape| ShapePlacement {
-                shape,
-                render_from_instance: Some(render_from_instance),
-                group: 0,
-            })),
+            1 if !render_from_instance.swaps_handedness() => {
+                placements.extend(object.shapes.iter().map(|shape| ShapePlacement {
+                    shape,
+                    render_from_instance: Some(render_from_instance),
+                    group: 0,
+                }))
+            }
             _ => {
                 let k = *slot[instance.object].get_or_insert_with(|| {
                     object_count += 1;
@@ -117,11 +119,16 @@ pub fn plan<'a>(
         .collect();
     by_slot.sort_unstable();
     for (k, object) in by_slot {
-        placements.extend(scene.objects[object].shapes.iter().map(|shape| ShapePlacement {
-            shape,
-            render_from_instance: None,
-            group: k + 1,
-        }));
+        placements.extend(
+            scene.objects[object]
+                .shapes
+                .iter()
+                .map(|shape| ShapePlacement {
+                    shape,
+                    render_from_instance: None,
+                    group: k + 1,
+                }),
+        );
     }
     Ok(InstancePlan {
         placements,
