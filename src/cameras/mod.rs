@@ -3,6 +3,7 @@
 //! Render space is pbrt-v4's default "cameraworld": world axes, origin at the
 //! camera, which keeps coordinates small where the rays are.
 
+pub mod differentials;
 pub mod perspective;
 pub mod transform;
 
@@ -13,7 +14,7 @@ use crate::error::{scene_error, Result};
 use crate::math::Ray;
 use crate::scene::description;
 use crate::spectrum::SampledWavelengths;
-use glam::{IVec2, Vec2};
+use glam::{IVec2, Vec2, Vec3};
 
 /// Where on the film and lens, and when, a camera ray starts.
 #[derive(Clone, Copy, Debug, Default)]
@@ -64,6 +65,17 @@ impl Camera {
     ) -> Option<CameraRay> {
         match self {
             Camera::Perspective(c) => c.generate_ray(sample),
+        }
+    }
+
+    /// Approximate (∂p/∂x, ∂p/∂y) at a render-space point with normal `n`
+    /// for a render of `samples_per_pixel` (see [`differentials`]).
+    pub fn approximate_dp_dxy(&self, p: Vec3, n: Vec3, samples_per_pixel: u32) -> (Vec3, Vec3) {
+        let scale = (1.0 / (samples_per_pixel.max(1) as f32).sqrt()).max(0.125);
+        match self {
+            Camera::Perspective(c) => c
+                .min_differentials
+                .approximate_dp_dxy(&c.transform, p, n, scale),
         }
     }
 

@@ -9,6 +9,7 @@
 //! | `screenwindow` | float[4] | from the aspect ratio | screen window xmin xmax ymin ymax |
 //! | `shutteropen`, `shutterclose` | float | 0, 1 | shutter interval |
 
+use super::differentials::{MinimumDifferentials, RayWithNeighbours};
 use super::{CameraRay, CameraSample, CameraTransform};
 use crate::error::{scene_error, Result};
 use crate::math::sampling::sample_uniform_disk_concentric;
@@ -28,6 +29,7 @@ pub struct PerspectiveCamera {
     tan_half_fov: f32,
     lens_radius: f32,
     focal_distance: f32,
+    pub min_differentials: MinimumDifferentials,
 }
 
 impl PerspectiveCamera {
@@ -69,18 +71,35 @@ impl PerspectiveCamera {
         }
         p.report_unused(|| "camera \"perspective\"".into())?;
         let res = full_resolution.as_vec2();
+        let screen_origin = Vec2::new(window[0], window[3]);
+        let screen_per_pixel = Vec2::new(
+            (window[1] - window[0]) / res.x,
+            -(window[3] - window[2]) / res.y,
+        );
+        let tan_half_fov = (fov.to_radians() / 2.0).tan();
+        // Rays through the lens centre (pbrt-v4 samples the lens at its
+        // centre here, where thin-lens rays are pinhole ones).
+        let min_differentials = MinimumDifferentials::find(res, |p_film| {
+            let screen = screen_origin + p_film * screen_per_pixel;
+            let p = Vec3::new(screen.x * tan_half_fov, screen.y * tan_half_fov, 1.0);
+            let dx = Vec3::new(screen_per_pixel.x * tan_half_fov, 0.0, 0.0);
+            let dy = Vec3::new(0.0, screen_per_pixel.y * tan_half_fov, 0.0);
+            Some(RayWithNeighbours {
+                ray: (Vec3::ZERO, p.normalize()),
+                x: (Vec3::ZERO, (p + dx).normalize()),
+                y: (Vec3::ZERO, (p + dy).normalize()),
+            })
+        });
         Ok(PerspectiveCamera {
             transform,
             shutter_open,
             shutter_close,
-            screen_origin: Vec2::new(window[0], window[3]),
-            screen_per_pixel: Vec2::new(
-                (window[1] - window[0]) / res.x,
-                -(window[3] - window[2]) / res.y,
-            ),
-            tan_half_fov: (fov.to_radians() / 2.0).tan(),
+            screen_origin,
+            screen_per_pixel,
+            tan_half_fov,
             lens_radius,
             focal_distance,
+            min_differentials,
         })
     }
 

@@ -11,6 +11,7 @@ use crate::math::Ray;
 use crate::samplers::Sampler;
 use crate::scene::build::BuiltScene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use crate::textures::TextureEvalContext;
 
 fn light_context(si: &SurfaceInteraction) -> LightSampleContext {
     LightSampleContext {
@@ -31,6 +32,7 @@ pub fn path_li(
 ) -> SampledSpectrum {
     let max_depth = scene.integrator.max_depth;
     let regularize = scene.integrator.regularize;
+    let spp = scene.sampler.samples_per_pixel();
     let mut l = SampledSpectrum::ZERO;
     let mut beta = SampledSpectrum::ONE;
     let mut depth = 0;
@@ -75,7 +77,9 @@ pub fn path_li(
             }
         }
         let material = &scene.materials[prim.material as usize];
-        let Some(mut bsdf) = material.bsdf(&si, lambda) else {
+        let (dpdx, dpdy) = scene.camera.approximate_dp_dxy(si.p, si.n, spp);
+        let ctx = TextureEvalContext::with_differentials(&si, dpdx, dpdy);
+        let Some(mut bsdf) = material.bsdf(&si, &ctx, lambda) else {
             // Interface: continue through the surface without counting a
             // bounce.
             specular_bounce = true;
