@@ -185,4 +185,26 @@ mod tests {
             .unwrap();
         assert!(right.ray.direction.x < 0.0, "{:?}", right.ray.direction);
     }
+
+    #[test]
+    fn approximate_differentials_use_the_smallest_ones_on_the_film() {
+        // 200×100, fov 90 across y: the screen spans x ∈ [−2, 2], y ∈ [−1, 1],
+        // 0.02 per pixel. Direction differentials are smallest at the
+        // corners, direction (2, 1, 1).
+        let c = camera(
+            "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 90\nWorldBegin",
+        );
+        let corner = Vec3::new(2.0, 1.0, 1.0);
+        let step = |d: Vec3| ((corner + d).normalize() - corner.normalize()).length();
+        let (ex, ey) = (step(Vec3::X * 0.02), step(Vec3::Y * 0.02));
+        // A wall facing the camera 10 units away; 4 spp halves the offsets.
+        let p = Vec3::new(0.0, 0.0, -10.0);
+        for (spp, scale) in [(1, 1.0), (4, 0.5)] {
+            let (dpdx, dpdy) = c.approximate_dp_dxy(p, Vec3::Z, spp);
+            assert!(dpdx.z.abs() < 1e-4 && dpdy.z.abs() < 1e-4, "{dpdx} {dpdy}");
+            let (lx, ly) = (dpdx.length(), dpdy.length());
+            assert!((lx / (10.0 * ex * scale) - 1.0).abs() < 0.01, "{lx} vs {}", 10.0 * ex);
+            assert!((ly / (10.0 * ey * scale) - 1.0).abs() < 0.01, "{ly} vs {}", 10.0 * ey);
+        }
+    }
 }

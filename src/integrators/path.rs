@@ -77,8 +77,12 @@ pub fn path_li(
             }
         }
         let material = &scene.materials[prim.material as usize];
-        let (dpdx, dpdy) = scene.camera.approximate_dp_dxy(si.p, si.n, spp);
-        let ctx = TextureEvalContext::with_differentials(&si, dpdx, dpdy);
+        let ctx = if scene.integrator.texture_filtering {
+            let (dpdx, dpdy) = scene.camera.approximate_dp_dxy(si.p, si.n, spp);
+            TextureEvalContext::with_differentials(&si, dpdx, dpdy)
+        } else {
+            TextureEvalContext::at(&si)
+        };
         let Some(mut bsdf) = material.bsdf(&si, &ctx, lambda) else {
             // Interface: continue through the surface without counting a
             // bounce.

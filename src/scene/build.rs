@@ -47,6 +47,9 @@ pub struct IntegratorSettings {
     pub kind: IntegratorKind,
     pub max_depth: i32,
     pub regularize: bool,
+    /// False under `Option "disabletexturefiltering" true`: textures are
+    /// looked up without ray differentials.
+    pub texture_filtering: bool,
 }
 
 /// A shape with its material and emission.
@@ -432,5 +435,6 @@ fn integrator_settings(scene: &SceneDescription) -> Result<IntegratorSettings> {
         kind,
         max_depth,
         regularize,
+        texture_filtering: !scene.options.disable_texture_filtering,
     })
 }
