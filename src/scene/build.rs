@@ -16,7 +16,7 @@ use crate::math::{offset_ray_origin, Bounds3, Ray};
 use crate::samplers::Sampler;
 use crate::shapes::{create_shapes, Shape, ShapeStorage};
 use crate::spectrum::color_space::SpectrumKind;
-use crate::textures::{create_texture, FloatTexture, NamedTextures};
+use crate::textures::{create_texture, FloatTexture, NamedTextures, SpectrumTexture};
 use glam::{IVec2, Vec3};
 use pbrt_parser::Warning;
 use std::collections::HashMap;
@@ -47,8 +47,9 @@ pub struct IntegratorSettings {
     pub kind: IntegratorKind,
     pub max_depth: i32,
     pub regularize: bool,
-    /// False under `Option "disabletexturefiltering" true`: textures are
-    /// looked up without ray differentials.
+    /// Whether textures are looked up with screen-space differentials:
+    /// false under `Option "disabletexturefiltering" true`, and when no
+    /// texture of the scene varies (nothing to filter).
     pub texture_filtering: bool,
 }
 
@@ -238,7 +239,7 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
     };
     let sampler = Sampler::create(&scene.sampler, seed, film.full_resolution, spp)?;
     let filter = Filter::create(&scene.filter)?;
-    let integrator = integrator_settings(scene)?;
+    let mut integrator = integrator_settings(scene)?;
 
     // Textures, in file order (images shared through the cache).
     let mut textures = NamedTextures::default();
@@ -272,6 +273,16 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
             }
         }
     }
+
+    // Differentials are only worth computing when some texture varies.
+    integrator.texture_filtering &= textures
+        .float
+        .values()
+        .any(|t| !matches!(t, FloatTexture::Constant(_)))
+        || textures
+            .spectrum
+            .values()
+            .any(|t| !matches!(t, SpectrumTexture::Constant(_)));
 
     // Materials: anonymous ones by index, then named ones.
     let mut materials = Vec::new();
