@@ -7,12 +7,55 @@
 //! each ray's own frame). At a hit, rays offset by those from a ray straight
 //! at the point are intersected with the hit's tangent plane; the offsets
 //! of those intersections, scaled by max(1/8, 1/√spp), are ∂p/∂x, ∂p/∂y.
-//! Texture filtering uses them at every hit (pbrt-v4 uses the true camera
-//! ray differentials at the first hit and after specular bounces).
+//! Texture filtering uses them at every hit but the first, where the camera
+//! ray's own differentials ([`RayDifferentials`]) give ∂p/∂x, ∂p/∂y
+//! (pbrt-v4 also carries differentials through specular bounces; rpbrt
+//! approximates there).
 
 use super::CameraTransform;
 use crate::math::Frame;
 use glam::{Mat3, Vec2, Vec3};
+
+/// The rays one pixel over in x and y from a camera ray, in render space
+/// (pbrt-v4's `RayDifferential` offsets).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RayDifferentials {
+    pub rx_origin: Vec3,
+    pub rx_direction: Vec3,
+    pub ry_origin: Vec3,
+    pub ry_direction: Vec3,
+}
+
+impl RayDifferentials {
+    /// The offsets scaled by `scale` about the main ray (`origin`,
+    /// `direction`): pbrt-v4 narrows camera-ray footprints to
+    /// max(1/8, 1/√spp) of a pixel.
+    pub fn scaled(&self, origin: Vec3, direction: Vec3, scale: f32) -> Self {
+        RayDifferentials {
+            rx_origin: origin + (self.rx_origin - origin) * scale,
+            rx_direction: direction + (self.rx_direction - direction) * scale,
+            ry_origin: origin + (self.ry_origin - origin) * scale,
+            ry_direction: direction + (self.ry_direction - direction) * scale,
+        }
+    }
+
+    /// (∂p/∂x, ∂p/∂y) at `p` on the plane through it with normal `n`: where
+    /// the offset rays meet that plane, relative to `p`; `None` when one
+    /// runs parallel to it.
+    pub fn dp_dxy(&self, p: Vec3, n: Vec3) -> Option<(Vec3, Vec3)> {
+        let (nx, ny) = (n.dot(self.rx_direction), n.dot(self.ry_direction));
+        if nx == 0.0 || ny == 0.0 {
+            return None;
+        }
+        let d = -n.dot(p);
+        let tx = (-n.dot(self.rx_origin) - d) / nx;
+        let ty = (-n.dot(self.ry_origin) - d) / ny;
+        Some((
+            self.rx_origin + tx * self.rx_direction - p,
+            self.ry_origin + ty * self.ry_direction - p,
+        ))
+    }
+}
 
 /// A camera ray and its neighbours one pixel over in x and y, in camera
 /// space: (origin, direction) each.
