@@ -141,3 +141,46 @@ fn image_texture_reflectance_renders_its_texels() {
     assert!((left - 0.75).abs() < 0.02, "{left}");
     assert!((right - 0.25).abs() < 0.01, "{right}");
 }
+
+/// Build errors name the directive at fault and what is wrong.
+#[test]
+fn imagemap_and_alpha_errors_name_their_directive() {
+    let dir = scratch("errors", 1.0, 0.0);
+    let build_error = |world: &str| -> String {
+        let path = dir.join("scene.pbrt");
+        let text = format!("{VIEW}WorldBegin\n{world}");
+        std::fs::write(&path, &text).unwrap();
+        let loaded = rpbrt::scene::load(&path).unwrap();
+        match rpbrt::scene::build::build(&loaded.scene, &RenderOverrides::default()) {
+            Ok(_) => panic!("no error for {world:?}"),
+            Err(e) => e.to_string(),
+        }
+    };
+    let cases = [
+        (
+            "Texture \"t\" \"float\" \"imagemap\" \"string filename\" \"halves.pfm\" \"string wrap\" \"mirror\"\n",
+            "scene.pbrt:6:1: \"mirror\": wrap mode unknown",
+        ),
+        (
+            "Texture \"t\" \"float\" \"imagemap\" \"string filename\" \"absent.png\"\n",
+            "scene.pbrt:6:1: imagemap texture: ",
+        ),
+        (
+            "Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"halves.pfm\" \"string encoding\" \"gamma\"\n",
+            "scene.pbrt:6:1: \"gamma\": unknown color encoding",
+        ),
+        (
+            "Texture \"t\" \"float\" \"checkerboard\" \"string mapping\" \"cubic\"\n",
+            "scene.pbrt:6:1: 2D texture mapping \"cubic\" unknown",
+        ),
+        (
+            "AttributeBegin\nAreaLightSource \"diffuse\"\n  Shape \"sphere\" \"float alpha\" 0.5\nAttributeEnd\n",
+            "scene.pbrt:8:3: \"alpha\" on an area light's shape",
+        ),
+    ];
+    for (world, expected) in cases {
+        let e = build_error(world);
+        assert!(e.contains(expected), "expected {expected:?} in:\n{e}");
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}
