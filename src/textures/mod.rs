@@ -351,3 +351,30 @@ pub fn create_texture(
     };
     Ok(Some(result))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn uv_differentials_solve_for_the_surface_parametrisation() {
+        let si = SurfaceInteraction {
+            dpdu: Vec3::new(2.0, 0.0, 0.0),
+            dpdv: Vec3::new(1.0, 4.0, 0.0),
+            ..Default::default()
+        };
+        // Moving by ∂p/∂u·½ + ∂p/∂v·¼ per pixel in x, by ∂p/∂v·(−½) in y.
+        let ctx = TextureEvalContext::with_differentials(
+            &si,
+            si.dpdu * 0.5 + si.dpdv * 0.25,
+            si.dpdv * -0.5,
+        );
+        let close = |a: f32, b: f32| (a - b).abs() < 1e-6;
+        assert!(close(ctx.dudx, 0.5) && close(ctx.dvdx, 0.25), "{ctx:?}");
+        assert!(close(ctx.dudy, 0.0) && close(ctx.dvdy, -0.5), "{ctx:?}");
+        // A degenerate parametrisation gives zero, not NaN.
+        let flat = SurfaceInteraction::default();
+        let ctx = TextureEvalContext::with_differentials(&flat, Vec3::X, Vec3::Y);
+        assert_eq!((ctx.dudx, ctx.dvdy), (0.0, 0.0));
+    }
+}
