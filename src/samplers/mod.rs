@@ -41,7 +41,7 @@ mod bits;
 mod digit_permutation;
 pub mod distribution;
 mod halton;
-mod hash;
+pub mod hash;
 mod independent;
 mod padded_sobol;
 mod permutation;
