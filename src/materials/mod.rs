@@ -278,23 +278,29 @@ impl Material {
         Ok(m)
     }
 
-    /// The BSDF at `si`; `None` for `interface` (the ray continues).
-    /// Dispersive materials terminate the secondary wavelengths.
-    pub fn bsdf(&self, si: &SurfaceInteraction, lambda: &mut SampledWavelengths) -> Option<BSDF> {
-        let ctx = TextureEvalContext { uv: si.uv };
+    /// The BSDF at `si`, its textures evaluated in `ctx` (which carries
+    /// the hit's screen-space differentials); `None` for `interface` (the
+    /// ray continues). Dispersive materials terminate the secondary
+    /// wavelengths.
+    pub fn bsdf(
+        &self,
+        si: &SurfaceInteraction,
+        ctx: &TextureEvalContext,
+        lambda: &mut SampledWavelengths,
+    ) -> Option<BSDF> {
         let clamp01 = |s: SampledSpectrum| s.map(|v| v.clamp(0.0, 1.0));
         let bxdf = match self {
             Material::Interface => return None,
             Material::Diffuse { reflectance } => BxDF::Diffuse(DiffuseBxDF::new(clamp01(
-                reflectance.evaluate(&ctx, lambda),
+                reflectance.evaluate(ctx, lambda),
             ))),
             Material::DiffuseTransmission {
                 reflectance,
                 transmittance,
                 scale,
             } => BxDF::DiffuseTransmission(DiffuseTransmissionBxDF::new(
-                clamp01(reflectance.evaluate(&ctx, lambda) * *scale),
-                clamp01(transmittance.evaluate(&ctx, lambda) * *scale),
+                clamp01(reflectance.evaluate(ctx, lambda) * *scale),
+                clamp01(transmittance.evaluate(ctx, lambda) * *scale),
             )),
             Material::Conductor {
                 eta,
@@ -302,23 +308,23 @@ impl Material {
                 reflectance,
                 roughness,
             } => {
-                let distrib = roughness.distribution(&ctx);
+                let distrib = roughness.distribution(ctx);
                 let (etas, ks) = match reflectance {
                     // pbrt-v4: a reflectance r gives η = 1, k = 2√r / √(1 − r).
                     Some(r) => {
-                        let r = r.evaluate(&ctx, lambda).map(|v| v.clamp(0.0, 0.9999));
+                        let r = r.evaluate(ctx, lambda).map(|v| v.clamp(0.0, 0.9999));
                         (
                             SampledSpectrum::ONE,
                             (r.sqrt() * 2.0) / (SampledSpectrum::ONE - r).sqrt(),
                         )
                     }
-                    None => (eta.evaluate(&ctx, lambda), k.evaluate(&ctx, lambda)),
+                    None => (eta.evaluate(ctx, lambda), k.evaluate(ctx, lambda)),
                 };
                 BxDF::Conductor(ConductorBxDF::new(distrib, etas, ks))
             }
             Material::Dielectric { eta, roughness } => {
                 let e = eval_eta(eta, lambda);
-                BxDF::Dielectric(DielectricBxDF::new(e, roughness.distribution(&ctx)))
+                BxDF::Dielectric(DielectricBxDF::new(e, roughness.distribution(ctx)))
             }
             Material::ThinDielectric { eta } => {
                 BxDF::ThinDielectric(ThinDielectricBxDF::new(eval_eta(eta, lambda)))
@@ -333,21 +339,21 @@ impl Material {
                 beta_n,
                 alpha,
             } => {
-                let bm = beta_m.evaluate(&ctx).clamp(0.01, 1.0);
-                let bn = beta_n.evaluate(&ctx).clamp(0.01, 1.0);
+                let bm = beta_m.evaluate(ctx).clamp(0.01, 1.0);
+                let bn = beta_n.evaluate(ctx).clamp(0.01, 1.0);
                 // Precedence as pbrt-v4: σa, then reflectance, then melanin.
                 let sig_a = if let Some(s) = sigma_a {
-                    s.evaluate(&ctx, lambda).clamp_zero()
+                    s.evaluate(ctx, lambda).clamp_zero()
                 } else if let Some(r) = reflectance {
-                    HairBxDF::sigma_a_from_reflectance(clamp01(r.evaluate(&ctx, lambda)), bn)
+                    HairBxDF::sigma_a_from_reflectance(clamp01(r.evaluate(ctx, lambda)), bn)
                 } else {
                     let ce = eumelanin
                         .as_ref()
-                        .map_or(0.0, |t| t.evaluate(&ctx))
+                        .map_or(0.0, |t| t.evaluate(ctx))
                         .max(0.0);
                     let cp = pheomelanin
                         .as_ref()
-                        .map_or(0.0, |t| t.evaluate(&ctx))
+                        .map_or(0.0, |t| t.evaluate(ctx))
                         .max(0.0);
                     let rgb = HairBxDF::sigma_a_from_concentration(ce, cp);
                     crate::spectrum::color_space::get(ColorSpaceName::Srgb)
@@ -357,11 +363,11 @@ impl Material {
                 let h = -1.0 + 2.0 * si.uv.y;
                 BxDF::Hair(HairBxDF::new(
                     h,
-                    eta.evaluate(&ctx),
+                    eta.evaluate(ctx),
                     sig_a,
                     bm,
                     bn,
-                    alpha.evaluate(&ctx),
+                    alpha.evaluate(ctx),
                 ))
             }
             Material::CoatedDiffuse {
@@ -376,11 +382,11 @@ impl Material {
             } => {
                 let e = eval_eta(eta, lambda);
                 BxDF::CoatedDiffuse(CoatedDiffuseBxDF::new(
-                    DielectricBxDF::new(e, roughness.distribution(&ctx)),
-                    DiffuseBxDF::new(clamp01(reflectance.evaluate(&ctx, lambda))),
-                    thickness.evaluate(&ctx).max(f32::MIN_POSITIVE),
-                    clamp01(albedo.evaluate(&ctx, lambda)),
-                    g.evaluate(&ctx),
+                    DielectricBxDF::new(e, roughness.distribution(ctx)),
+                    DiffuseBxDF::new(clamp01(reflectance.evaluate(ctx, lambda))),
+                    thickness.evaluate(ctx).max(f32::MIN_POSITIVE),
+                    clamp01(albedo.evaluate(ctx, lambda)),
+                    g.evaluate(ctx),
                     *max_depth,
                     *n_samples,
                 ))

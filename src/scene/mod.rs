@@ -1,6 +1,7 @@
 //! From directives to a scene description: the graphics state, named
 //! things, instancing, and typed parameter lookups.
 
+pub mod alpha;
 pub mod build;
 pub mod builder;
 pub mod description;
