@@ -79,7 +79,10 @@ fn alpha_cut_quad_lets_half_the_pixels_see_the_sky() {
     let (left, right) = half_means(&image);
     eprintln!("alpha-cut quad: left half {left:.4}, right half {right:.4}");
     assert!((left - 1.0).abs() < 0.01, "left half should be sky: {left}");
-    assert!(right.abs() < 1e-6, "right half should be the black quad: {right}");
+    assert!(
+        right.abs() < 1e-6,
+        "right half should be the black quad: {right}"
+    );
 }
 
 /// A constant alpha of ½ lets about half of the rays through, chosen by a
@@ -97,7 +100,10 @@ fn fractional_alpha_passes_that_fraction_of_rays() {
         let (left, right) = half_means(&image);
         let mean = (left + right) / 2.0;
         eprintln!("alpha {alpha}: mean {mean:.4}");
-        assert!((mean - expected).abs() < tolerance, "alpha {alpha}: mean {mean}");
+        assert!(
+            (mean - expected).abs() < tolerance,
+            "alpha {alpha}: mean {mean}"
+        );
     }
 }
 
@@ -120,7 +126,10 @@ fn shadow_rays_pass_through_cut_out_parts() {
     eprintln!("shadow: lit half {left:.4}, occluded half {right:.4}");
     // Lambertian 0.5 under irradiance 3: 0.5 · 3 / π.
     let lit = 1.5 / std::f32::consts::PI;
-    assert!((left - lit).abs() < 0.02 * lit, "lit half {left}, expected {lit}");
+    assert!(
+        (left - lit).abs() < 0.02 * lit,
+        "lit half {left}, expected {lit}"
+    );
     assert!(right.abs() < 1e-6, "occluded half {right}");
 }
 

@@ -81,9 +81,10 @@ impl Camera {
     pub fn approximate_dp_dxy(&self, p: Vec3, n: Vec3, samples_per_pixel: u32) -> (Vec3, Vec3) {
         let scale = differential_scale(samples_per_pixel);
         match self {
-            Camera::Perspective(c) => c
-                .min_differentials
-                .approximate_dp_dxy(&c.transform, p, n, scale),
+            Camera::Perspective(c) => {
+                c.min_differentials
+                    .approximate_dp_dxy(&c.transform, p, n, scale)
+            }
         }
     }
 
@@ -101,8 +102,12 @@ impl Camera {
         camera_ray
             .differentials
             .and_then(|d| {
-                d.scaled(ray.origin, ray.direction, differential_scale(samples_per_pixel))
-                    .dp_dxy(p, n)
+                d.scaled(
+                    ray.origin,
+                    ray.direction,
+                    differential_scale(samples_per_pixel),
+                )
+                .dp_dxy(p, n)
             })
             .unwrap_or_else(|| self.approximate_dp_dxy(p, n, samples_per_pixel))
     }

@@ -131,9 +131,8 @@ impl PerspectiveCamera {
         }
         let time = crate::math::lerp(sample.time, self.shutter_open, self.shutter_close);
         let m = &self.transform.render_from_camera;
-        let to_render = |(o, d): (Vec3, Vec3)| {
-            (m.transform_point3(o), m.transform_vector3(d).normalize())
-        };
+        let to_render =
+            |(o, d): (Vec3, Vec3)| (m.transform_point3(o), m.transform_vector3(d).normalize());
         let (origin, direction) = to_render((origin, direction));
         let (rx, ry) = (to_render(rx), to_render(ry));
         Some(CameraRay {
@@ -223,8 +222,16 @@ mod tests {
             let (dpdx, dpdy) = c.approximate_dp_dxy(p, Vec3::Z, spp);
             assert!(dpdx.z.abs() < 1e-4 && dpdy.z.abs() < 1e-4, "{dpdx} {dpdy}");
             let (lx, ly) = (dpdx.length(), dpdy.length());
-            assert!((lx / (10.0 * ex * scale) - 1.0).abs() < 0.01, "{lx} vs {}", 10.0 * ex);
-            assert!((ly / (10.0 * ey * scale) - 1.0).abs() < 0.01, "{ly} vs {}", 10.0 * ey);
+            assert!(
+                (lx / (10.0 * ex * scale) - 1.0).abs() < 0.01,
+                "{lx} vs {}",
+                10.0 * ex
+            );
+            assert!(
+                (ly / (10.0 * ey * scale) - 1.0).abs() < 0.01,
+                "{ly} vs {}",
+                10.0 * ey
+            );
         }
     }
 

@@ -291,9 +291,9 @@ impl Material {
         let clamp01 = |s: SampledSpectrum| s.map(|v| v.clamp(0.0, 1.0));
         let bxdf = match self {
             Material::Interface => return None,
-            Material::Diffuse { reflectance } => BxDF::Diffuse(DiffuseBxDF::new(clamp01(
-                reflectance.evaluate(ctx, lambda),
-            ))),
+            Material::Diffuse { reflectance } => {
+                BxDF::Diffuse(DiffuseBxDF::new(clamp01(reflectance.evaluate(ctx, lambda))))
+            }
             Material::DiffuseTransmission {
                 reflectance,
                 transmittance,
@@ -347,10 +347,7 @@ impl Material {
                 } else if let Some(r) = reflectance {
                     HairBxDF::sigma_a_from_reflectance(clamp01(r.evaluate(ctx, lambda)), bn)
                 } else {
-                    let ce = eumelanin
-                        .as_ref()
-                        .map_or(0.0, |t| t.evaluate(ctx))
-                        .max(0.0);
+                    let ce = eumelanin.as_ref().map_or(0.0, |t| t.evaluate(ctx)).max(0.0);
                     let cp = pheomelanin
                         .as_ref()
                         .map_or(0.0, |t| t.evaluate(ctx))

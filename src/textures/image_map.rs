@@ -150,11 +150,9 @@ impl ImageTexture {
     pub fn evaluate_float(&self, ctx: &TextureEvalContext) -> f32 {
         let c = self.coords(ctx);
         let v = self.scale
-            * self.mipmap.lookup_float(
-                c.st,
-                Vec2::new(c.dsdx, c.dtdx),
-                Vec2::new(c.dsdy, c.dtdy),
-            );
+            * self
+                .mipmap
+                .lookup_float(c.st, Vec2::new(c.dsdx, c.dtdx), Vec2::new(c.dsdy, c.dtdy));
         if self.invert {
             (1.0 - v).max(0.0)
         } else {
@@ -231,8 +229,16 @@ mod tests {
         for wrap in WRAPS {
             for filter in FILTERS {
                 let t = ramp(wrap, filter);
-                assert_eq!(t.evaluate_float(&at(0.375, 0.875, 0.0)), 1.0, "{wrap:?} {filter:?}");
-                assert_eq!(t.evaluate_float(&at(0.875, 0.125, 0.0)), 15.0, "{wrap:?} {filter:?}");
+                assert_eq!(
+                    t.evaluate_float(&at(0.375, 0.875, 0.0)),
+                    1.0,
+                    "{wrap:?} {filter:?}"
+                );
+                assert_eq!(
+                    t.evaluate_float(&at(0.875, 0.125, 0.0)),
+                    15.0,
+                    "{wrap:?} {filter:?}"
+                );
                 assert_eq!(t.evaluate_rgb(&at(0.125, 0.625, 0.0)), Vec3::splat(4.0));
             }
         }
@@ -310,14 +316,23 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let path = dir.join("ramp.pfm");
         let data = (0..12).map(|i| i as f32 / 12.0).collect();
-        Image::new(2, 2, &["R", "G", "B"], data).unwrap().write(&path).unwrap();
+        Image::new(2, 2, &["R", "G", "B"], data)
+            .unwrap()
+            .write(&path)
+            .unwrap();
         let location = Location::nowhere();
         let mut cache = ImageCache::default();
         let (wrap, filter) = (WrapMode::Repeat, FilterFunction::Bilinear);
-        let a = cache.get(&path, wrap, filter, None, 8.0, &location).unwrap();
-        let b = cache.get(&path, wrap, filter, None, 8.0, &location).unwrap();
+        let a = cache
+            .get(&path, wrap, filter, None, 8.0, &location)
+            .unwrap();
+        let b = cache
+            .get(&path, wrap, filter, None, 8.0, &location)
+            .unwrap();
         assert!(Arc::ptr_eq(&a, &b));
-        cache.get(&path, WrapMode::Clamp, filter, None, 8.0, &location).unwrap();
+        cache
+            .get(&path, WrapMode::Clamp, filter, None, 8.0, &location)
+            .unwrap();
         assert_eq!(cache.len(), 2);
         let missing = cache.get(&dir.join("absent.png"), wrap, filter, None, 8.0, &location);
         assert!(missing.is_err());

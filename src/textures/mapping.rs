@@ -30,9 +30,16 @@ pub struct TexCoord2D {
 
 #[derive(Clone, Debug, PartialEq)]
 pub enum TextureMapping2D {
-    Uv { scale: Vec2, delta: Vec2 },
-    Spherical { texture_from_render: Mat4 },
-    Cylindrical { texture_from_render: Mat4 },
+    Uv {
+        scale: Vec2,
+        delta: Vec2,
+    },
+    Spherical {
+        texture_from_render: Mat4,
+    },
+    Cylindrical {
+        texture_from_render: Mat4,
+    },
     Planar {
         texture_from_render: Mat4,
         vs: Vec3,
@@ -44,7 +51,11 @@ pub enum TextureMapping2D {
 impl TextureMapping2D {
     /// The mapping a texture's parameters name (`render_from_texture`: the
     /// transform at the `Texture` directive, in render space).
-    pub fn create(params: &ParamSet, render_from_texture: Mat4, location: &Location) -> Result<Self> {
+    pub fn create(
+        params: &ParamSet,
+        render_from_texture: Mat4,
+        location: &Location,
+    ) -> Result<Self> {
         let texture_from_render = render_from_texture.inverse();
         let delta = |params: &ParamSet| -> Result<Vec2> {
             Ok(Vec2::new(
@@ -95,18 +106,17 @@ impl TextureMapping2D {
                 dtdx: scale.y * ctx.dvdx,
                 dtdy: scale.y * ctx.dvdy,
             },
-            TextureMapping2D::Spherical { texture_from_render } => {
+            TextureMapping2D::Spherical {
+                texture_from_render,
+            } => {
                 let pt = texture_from_render.transform_point3(ctx.p);
                 let x2y2 = pt.x * pt.x + pt.y * pt.y;
                 let sqrt_x2y2 = x2y2.sqrt();
                 // As pbrt-v4: ∂s/∂p is that of φ/2π and ∂t/∂p that of θ/π,
                 // while s is θ/π and t is φ/2π.
                 let dsdp = Vec3::new(-pt.y, pt.x, 0.0) / (2.0 * PI * x2y2);
-                let dtdp = Vec3::new(
-                    pt.x * pt.z / sqrt_x2y2,
-                    pt.y * pt.z / sqrt_x2y2,
-                    -sqrt_x2y2,
-                ) / (PI * (x2y2 + pt.z * pt.z));
+                let dtdp = Vec3::new(pt.x * pt.z / sqrt_x2y2, pt.y * pt.z / sqrt_x2y2, -sqrt_x2y2)
+                    / (PI * (x2y2 + pt.z * pt.z));
                 let v = pt.normalize_or_zero();
                 let theta = v.z.clamp(-1.0, 1.0).acos();
                 let phi = v.y.atan2(v.x);
@@ -119,7 +129,9 @@ impl TextureMapping2D {
                     ctx,
                 )
             }
-            TextureMapping2D::Cylindrical { texture_from_render } => {
+            TextureMapping2D::Cylindrical {
+                texture_from_render,
+            } => {
                 let pt = texture_from_render.transform_point3(ctx.p);
                 let x2y2 = pt.x * pt.x + pt.y * pt.y;
                 let dsdp = Vec3::new(-pt.y, pt.x, 0.0) / (2.0 * PI * x2y2);

@@ -63,7 +63,13 @@ impl TextureEvalContext {
         let inv_det = if inv_det.is_finite() { inv_det } else { 0.0 };
         let solve = |d: Vec3| {
             let (b0, b1) = (si.dpdu.dot(d), si.dpdv.dot(d));
-            let clean = |x: f32| if x.is_finite() { x.clamp(-1e8, 1e8) } else { 0.0 };
+            let clean = |x: f32| {
+                if x.is_finite() {
+                    x.clamp(-1e8, 1e8)
+                } else {
+                    0.0
+                }
+            };
             (
                 clean((ata11 * b0 - ata01 * b1) * inv_det),
                 clean((ata00 * b1 - ata01 * b0) * inv_det),
