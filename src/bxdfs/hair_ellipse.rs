@@ -334,11 +334,12 @@ impl Trace {
     }
 }
 
-/// One row (fixed φ_in) of the h-averaged azimuthal maps of the ray part:
-/// for lobes R, TT, TRT, N_p(φ_out) = ½∫_{−1}^{1} A_p(h) L(φ_out − φ_p(h), s) dh
-/// by the midpoint rule over `n_h` offsets (L pbrt's logistic trimmed to
-/// [−π, π]), and the residual A_3/(2π) (its direction is uniform). So
-/// ∫ N_p dφ_out is the h average of A_p. σ_a is grey here.
+/// One row (fixed φ_in) of the h-averaged azimuthal maps of the ray part
+/// on the uniform grid φ_out = 2πk/n_out: for lobes R, TT, TRT,
+/// N_p(φ_out) = ½∫_{−1}^{1} A_p(h) L(φ_out − φ_p(h), s) dh by the midpoint
+/// rule over `n_h` offsets (L pbrt's logistic trimmed to [−π, π]), and the
+/// residual A_3/(2π) (its direction is uniform). So ∫ N_p dφ_out is the h
+/// average of A_p. σ_a is grey here.
 #[allow(clippy::too_many_arguments)]
 pub fn h_averaged_row(
     ellipse: &Ellipse,
@@ -349,11 +350,14 @@ pub fn h_averaged_row(
     variant: Variant,
     fresnel: InternalFresnel,
     n_h: usize,
-    phi_out: &[f32],
+    n_out: usize,
 ) -> [Vec<f32>; LOBES + 1] {
     use super::hair::{trimmed_logistic, wrap_angle};
     use std::f32::consts::PI;
-    let mut rows: [Vec<f32>; LOBES + 1] = std::array::from_fn(|_| vec![0.0; phi_out.len()]);
+    let mut rows: [Vec<f32>; LOBES + 1] = std::array::from_fn(|_| vec![0.0; n_out]);
+    let step = 2.0 * PI / n_out as f32;
+    // The kernel is below 1e-16 of its peak past 40 s.
+    let reach = ((40.0 * s / step).ceil() as i64).min(n_out as i64 / 2);
     let weight = 1.0 / n_h as f32; // ½ dh with dh = 2/n_h
     for i in 0..n_h {
         let h = -1.0 + (2.0 * i as f32 + 1.0) / n_h as f32;
@@ -364,12 +368,12 @@ pub fn h_averaged_row(
                 continue;
             }
             let center = trace.exits[p].phi;
-            for (v, &phi) in rows[p].iter_mut().zip(phi_out) {
-                let x = wrap_angle(phi - center);
-                // The kernel is below 1e-16 of its peak past 40 s.
-                if x.abs() < 40.0 * s {
-                    *v += weight * a[p][0] * trimmed_logistic(x, s, -PI, PI);
-                }
+            let k0 = (center / step).round() as i64;
+            let last = if 2 * reach >= n_out as i64 { k0 - reach + n_out as i64 - 1 } else { k0 + reach };
+            for k in k0 - reach..=last {
+                let k = k.rem_euclid(n_out as i64) as usize;
+                let x = wrap_angle(k as f32 * step - center);
+                rows[p][k] += weight * a[p][0] * trimmed_logistic(x, s, -PI, PI);
             }
         }
         for v in rows[LOBES].iter_mut() {

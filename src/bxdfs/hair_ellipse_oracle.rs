@@ -157,7 +157,7 @@ fn bcsdf_maps_match_the_brute_force_tracer() {
         let mut model: [Vec<f64>; 3] = std::array::from_fn(|_| vec![0.0; n * n]);
         let mut residual = 0.0f64;
         for i in 0..n {
-            let rows = h_averaged_row(&ellipse, grid[i], &optics, sigma_a as f32, s, Variant::Exact, InternalFresnel::Pbrt, 6000, &grid);
+            let rows = h_averaged_row(&ellipse, grid[i], &optics, sigma_a as f32, s, Variant::Exact, InternalFresnel::Pbrt, 6000, n);
             for p in 0..3 {
                 for j in 0..n {
                     model[p][i * n + j] = rows[p][j] as f64;
