@@ -231,13 +231,16 @@ impl DualHairBxDF {
 
     /// f(ωo, ωi), divided by |cos θ_i| as pbrt's hair BSDF is.
     pub fn value(&self, wo: Vec3, wi: Vec3) -> SampledSpectrum {
-        let l = self.local(wo);
+        self.value_local(&self.local(wo), wi)
+    }
+
+    fn value_local(&self, l: &Local, wi: Vec3) -> SampledSpectrum {
         let sin_theta_i = wi.x.clamp(-1.0, 1.0);
         let cos_theta_i = safe_sqrt(1.0 - sqr(sin_theta_i));
         let phi_i = wi.z.atan2(wi.y);
         let mut f = match &l.hit {
             Hit::Fibre { phi, a } => self.lobe_sum(
-                &l,
+                l,
                 phi,
                 a,
                 SampledSpectrum::ZERO,
@@ -247,7 +250,7 @@ impl DualHairBxDF {
             ),
             Hit::Ring { d_um } => {
                 let delta = wrap_angle(phi_i - l.phi_o - PI);
-                self.n_diff(*d_um, delta) * self.m_residual(&l, sin_theta_i, cos_theta_i)
+                self.n_diff(*d_um, delta) * self.m_residual(l, sin_theta_i, cos_theta_i)
             }
         };
         let cos_wi = wi.z.abs();
@@ -324,7 +327,7 @@ impl DualHairBxDF {
             return None;
         }
         Some(HairSample {
-            f: self.value(wo, wi),
+            f: self.value_local(&l, wi),
             wi,
             pdf,
         })

@@ -32,7 +32,7 @@ pub const LOBES: usize = 3;
 /// Exits traced one by one (R's reflection counts as exit 0); later exits
 /// form a geometric tail with the mean chord and escape of the traced
 /// residual exits.
-const TRACED_EXITS: usize = 6;
+const TRACED_EXITS: usize = 5;
 
 /// Which equations the ray part follows.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -278,7 +278,8 @@ impl Ellipse {
                 eta_p * d + (cos_out - eta_p * cos_int) * n
             };
             *exit = Exit {
-                phi: out.y.atan2(out.x) as f32,
+                // Only the explicit lobes need a direction.
+                phi: if k < LOBES { out.y.atan2(out.x) as f32 } else { 0.0 },
                 escape: if tir { 0.0 } else { inside * (1.0 - f) },
                 length: length as f32,
             };
