@@ -23,10 +23,10 @@ fn inputs() -> Vec<(f32, Vec3, Vec3, f32, Vec2)> {
         s ^= s << 5;
         s as f32 / u32::MAX as f32
     };
-    let mut dir = |f: &mut dyn FnMut() -> f32| {
+    let dir = |f: &mut dyn FnMut() -> f32| {
         let z = 1.0 - 2.0 * f();
         let r = (1.0 - z * z).max(0.0).sqrt();
-        let p = 6.283_185 * f();
+        let p = std::f32::consts::TAU * f();
         Vec3::new(r * p.cos(), r * p.sin(), z)
     };
     (0..N)

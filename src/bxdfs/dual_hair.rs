@@ -208,6 +208,7 @@ impl DualHairBxDF {
 
     /// Σ_p w_p M_p N_p (+ the residual's w_3 M_3 / 2π), with per-lobe
     /// weights `w` (A_p for the value, lobe probabilities for the pdf).
+    #[allow(clippy::too_many_arguments)]
     fn lobe_sum<T: Copy + std::ops::Mul<f32, Output = T> + std::ops::AddAssign>(
         &self,
         l: &Local,
@@ -323,7 +324,7 @@ impl DualHairBxDF {
             cos_theta_i * phi_i.sin(),
         );
         let pdf = self.pdf_local(&l, sin_theta_i, cos_theta_i, phi_i);
-        if !(pdf > 0.0) || !pdf.is_finite() {
+        if pdf.is_nan() || pdf <= 0.0 || pdf.is_infinite() {
             return None;
         }
         Some(HairSample {
