@@ -15,7 +15,12 @@ mod diffuse_transmission;
 mod flags;
 pub mod fresnel;
 pub mod geometry;
+pub mod dual_hair;
 pub mod hair;
+pub mod hair_diffraction;
+pub mod hair_ellipse;
+#[cfg(test)]
+mod hair_ellipse_oracle;
 mod henyey_greenstein;
 mod layered;
 mod microfacet;
@@ -53,6 +58,7 @@ pub enum BxDF {
     CoatedConductor(CoatedConductorBxDF),
     DiffuseTransmission(DiffuseTransmissionBxDF),
     Hair(hair::HairBxDF),
+    DualHair(dual_hair::DualHairBxDF),
 }
 
 /// Expands to a `match` calling `$method` on whichever BxDF `$self` holds.
@@ -67,6 +73,7 @@ macro_rules! dispatch {
             BxDF::CoatedConductor($bxdf) => $call,
             BxDF::DiffuseTransmission($bxdf) => $call,
             BxDF::Hair($bxdf) => $call,
+            BxDF::DualHair($bxdf) => $call,
         }
     };
 }

@@ -9,8 +9,10 @@
 //! | `coateddiffuse` | `reflectance` 0.5, `roughness` 0, `thickness` 0.01, `eta` 1.5, `albedo` 0, `g` 0, `maxdepth` 10, `nsamples` 1, `remaproughness` true |
 //! | `diffusetransmission` | `reflectance` 0.25, `transmittance` 0.25, `scale` 1 |
 //! | `hair` | `sigma_a`, or `reflectance` (alias `color`), or `eumelanin`/`pheomelanin` (default eumelanin 1.3 when none is given); `eta` 1.55, `beta_m` 0.3, `beta_n` 0.3 (both clamped to [0.01, 1]), `alpha` 2° |
+//! | `hair` (dual model) | `ellipse_a`, `ellipse_b`, `d_diff`, `ellipse_orientation`, `diffraction`, `variant`, `internal_fresnel`: see [`dual_hair`] |
 //! | `interface` | none: marks a boundary between media; rays pass through |
 
+use crate::bxdfs::dual_hair::{DualHairBxDF, DualHairParams};
 use crate::bxdfs::hair::HairBxDF;
 use crate::bxdfs::{
     BxDF, CoatedDiffuseBxDF, ConductorBxDF, DielectricBxDF, DiffuseBxDF, DiffuseTransmissionBxDF,
@@ -26,6 +28,8 @@ use crate::textures::{
     FloatTexture, NamedTextures, SpectrumTexture, TextureEvalContext, TextureParams,
 };
 use std::path::Path;
+
+pub mod dual_hair;
 
 /// Roughness given as (u, v) textures, remapped to α or not.
 #[derive(Clone, Debug)]
@@ -98,6 +102,9 @@ pub enum Material {
         beta_m: FloatTexture,
         beta_n: FloatTexture,
         alpha: FloatTexture,
+        /// The dual model's parameters and ellipse orientation (radians);
+        /// `None` is pbrt-v4's hair.
+        dual: Option<(DualHairParams, f32)>,
     },
     CoatedDiffuse {
         reflectance: SpectrumTexture,
@@ -270,6 +277,7 @@ impl Material {
                     beta_m: tp.float_texture("beta_m", 0.3)?,
                     beta_n: tp.float_texture("beta_n", 0.3)?,
                     alpha: tp.float_texture("alpha", 2.0)?,
+                    dual: dual_hair::read(p)?,
                 }
             }
             other => return scene_error(format!("material \"{other}\" is not supported yet"), loc),
@@ -338,6 +346,7 @@ impl Material {
                 beta_m,
                 beta_n,
                 alpha,
+                dual,
             } => {
                 let bm = beta_m.evaluate(ctx).clamp(0.01, 1.0);
                 let bn = beta_n.evaluate(ctx).clamp(0.01, 1.0);
@@ -358,14 +367,28 @@ impl Material {
                         .sample(lambda)
                 };
                 let h = -1.0 + 2.0 * si.uv.y;
-                BxDF::Hair(HairBxDF::new(
-                    h,
-                    eta.evaluate(ctx),
-                    sig_a,
-                    bm,
-                    bn,
-                    alpha.evaluate(ctx),
-                ))
+                let base = HairBxDF::new(h, eta.evaluate(ctx), sig_a, bm, bn, alpha.evaluate(ctx));
+                match dual {
+                    None => BxDF::Hair(base),
+                    Some((params, orientation)) => {
+                        // The major axis from the strand's stable reference
+                        // (the shading normal where a shape has none), in
+                        // the local frame's azimuth φ = atan2(z, y).
+                        let probe = BSDF::new(si.shading.n, si.shading.dpdu, BxDF::Hair(base));
+                        let r = probe.render_to_local(si.fiber_reference);
+                        let reference = if r.y == 0.0 && r.z == 0.0 {
+                            std::f32::consts::FRAC_PI_2
+                        } else {
+                            r.z.atan2(r.y)
+                        };
+                        BxDF::DualHair(DualHairBxDF::new(
+                            base,
+                            *params,
+                            reference + orientation,
+                            lambda.lambda,
+                        ))
+                    }
+                }
             }
             Material::CoatedDiffuse {
                 reflectance,

@@ -52,11 +52,14 @@ pub struct CurveSegment {
     pub kind: CurveType,
     /// Ribbon normals at u = 0 and 1 (unit), and the angle between them.
     pub normals: [Vec3; 2],
-    normal_angle: f32,
-    inv_sin_normal_angle: f32,
+    pub(crate) normal_angle: f32,
+    pub(crate) inv_sin_normal_angle: f32,
     /// Flip the normal (reverse orientation XOR a handedness-swapping
     /// transform).
     pub flip_normal: bool,
+    /// View-independent direction across the strand at u = 0 and 1
+    /// (see `curve_frame`).
+    pub reference: [Vec3; 2],
 }
 
 /// A piece [u0, u1] of a segment: the BVH primitive.
@@ -357,6 +360,7 @@ impl CurveHit {
             dpdu,
             dpdv,
             curve_h: -1.0 + 2.0 * self.v,
+            fiber_reference: super::curve_frame::reference_at(segment, self.u, dpdu, self.n_hit),
             ..Default::default()
         };
         si.shading = crate::interaction::Shading {
@@ -452,6 +456,7 @@ pub fn create_curves(
     let flip_normal = reverse_orientation ^ m.swaps_handedness();
     let to_render = |q: DVec3| m.point(q).as_vec3();
     let lerp = |t: f64, a: DVec3, b: DVec3| a + (b - a) * t;
+    let first_segment = segments.len();
     for seg in 0..segments_count {
         let bez: [DVec3; 4] = match (basis.as_str(), degree) {
             ("bezier", 3) => [
@@ -515,11 +520,13 @@ pub fn create_curves(
             normal_angle: angle,
             inv_sin_normal_angle: if angle > 0.0 { 1.0 / angle.sin() } else { 0.0 },
             flip_normal,
+            reference: [Vec3::ZERO; 2],
         };
         let segment_index = segments.len() as u32;
         split_into_pieces(&segment, segment_index, split_depth, pieces);
         segments.push(segment);
     }
+    super::curve_frame::transport(&mut segments[first_segment..]);
     Ok(())
 }
 
@@ -597,6 +604,7 @@ mod tests {
             normal_angle: 0.0,
             inv_sin_normal_angle: 0.0,
             flip_normal: false,
+            reference: [Vec3::ZERO; 2],
         };
         let mut pieces = Vec::new();
         split_into_pieces(&s, 0, split_depth, &mut pieces);

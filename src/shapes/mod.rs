@@ -18,6 +18,7 @@
 
 pub mod bilinear;
 pub mod curve;
+pub mod curve_frame;
 pub mod cylinder;
 pub mod disk;
 pub mod interval;

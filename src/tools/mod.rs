@@ -2,4 +2,5 @@
 //! comparison, convergence runs, BCSDF maps).
 
 pub mod curvegen;
+pub mod bcsdf;
 pub mod imgdiff;
