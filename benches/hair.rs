@@ -53,8 +53,18 @@ fn make(kind: &str, h: f32) -> BxDF {
     let lambda = [430.0, 520.0, 600.0, 680.0];
     match kind {
         "circular pbrt" => BxDF::Hair(base),
-        "elliptical logistic" => BxDF::DualHair(DualHairBxDF::new(base, params(Diffraction::Logistic), 0.4, lambda)),
-        _ => BxDF::DualHair(DualHairBxDF::new(base, params(Diffraction::Spectral), 0.4, lambda)),
+        "elliptical logistic" => BxDF::DualHair(DualHairBxDF::new(
+            base,
+            params(Diffraction::Logistic),
+            0.4,
+            lambda,
+        )),
+        _ => BxDF::DualHair(DualHairBxDF::new(
+            base,
+            params(Diffraction::Spectral),
+            0.4,
+            lambda,
+        )),
     }
 }
 
@@ -64,7 +74,11 @@ fn hair(c: &mut Criterion) {
     let all = BxDFReflTransFlags::All;
     let mut g = c.benchmark_group("hair");
     g.throughput(Throughput::Elements(N as u64));
-    for kind in ["circular pbrt", "elliptical logistic", "elliptical spectral"] {
+    for kind in [
+        "circular pbrt",
+        "elliptical logistic",
+        "elliptical spectral",
+    ] {
         let bxdfs: Vec<BxDF> = inputs.iter().map(|i| make(kind, i.0)).collect();
         g.bench_function(format!("{kind}/f"), |b| {
             b.iter(|| {

@@ -17,20 +17,59 @@ fn build(material: &str) -> Result<(), String> {
 #[test]
 fn invalid_dual_hair_parameters_name_their_location() {
     let cases = [
-        ("Material \"hair\" \"float ellipse_a\" 30", "3:17", "must be given together"),
-        ("Material \"hair\" \"float ellipse_a\" 20 \"float ellipse_b\" 30", "3:17", "semi-major axis"),
-        ("Material \"hair\" \"float ellipse_a\" -3 \"float ellipse_b\" -4", "3:17", "must be positive"),
-        ("Material \"hair\" \"float ellipse_a\" 30 \"float ellipse_b\" 0", "3:38", "must be positive"),
-        ("Material \"hair\" \"float ellipse_a\" 1e39 \"float ellipse_b\" 20", "3:17", "\"ellipse_a\" must be finite"),
-        ("Material \"hair\" \"float d_diff\" 1.5", "3:17", "\"d_diff\" must be in [0, 1]"),
-        ("Material \"hair\" \"string diffraction\" \"sinc\"", "3:17", "\"diffraction\" must be one of"),
-        ("Material \"hair\" \"string variant\" \"fast\"", "3:17", "\"variant\" must be one of"),
-        ("Material \"hair\" \"string internal_fresnel\" \"f2\"", "3:17", "\"internal_fresnel\" must be one of"),
+        (
+            "Material \"hair\" \"float ellipse_a\" 30",
+            "3:17",
+            "must be given together",
+        ),
+        (
+            "Material \"hair\" \"float ellipse_a\" 20 \"float ellipse_b\" 30",
+            "3:17",
+            "semi-major axis",
+        ),
+        (
+            "Material \"hair\" \"float ellipse_a\" -3 \"float ellipse_b\" -4",
+            "3:17",
+            "must be positive",
+        ),
+        (
+            "Material \"hair\" \"float ellipse_a\" 30 \"float ellipse_b\" 0",
+            "3:38",
+            "must be positive",
+        ),
+        (
+            "Material \"hair\" \"float ellipse_a\" 1e39 \"float ellipse_b\" 20",
+            "3:17",
+            "\"ellipse_a\" must be finite",
+        ),
+        (
+            "Material \"hair\" \"float d_diff\" 1.5",
+            "3:17",
+            "\"d_diff\" must be in [0, 1]",
+        ),
+        (
+            "Material \"hair\" \"string diffraction\" \"sinc\"",
+            "3:17",
+            "\"diffraction\" must be one of",
+        ),
+        (
+            "Material \"hair\" \"string variant\" \"fast\"",
+            "3:17",
+            "\"variant\" must be one of",
+        ),
+        (
+            "Material \"hair\" \"string internal_fresnel\" \"f2\"",
+            "3:17",
+            "\"internal_fresnel\" must be one of",
+        ),
     ];
     for (material, at, message) in cases {
         let err = build(material).expect_err(material);
         let first = err.lines().next().unwrap_or("");
-        assert!(first.starts_with(&format!("hair.pbrt:{at}:")), "{material}: {err}");
+        assert!(
+            first.starts_with(&format!("hair.pbrt:{at}:")),
+            "{material}: {err}"
+        );
         assert!(first.contains(message), "{material}: {err}");
     }
 }
@@ -46,4 +85,29 @@ fn valid_dual_hair_parameters_build() {
     ] {
         build(material).unwrap_or_else(|e| panic!("{material}: {e}"));
     }
+}
+
+/// The curve of a dual-model fibre is (1 + d_diff) × the written width (the
+/// diffracting outer cylinder); a circular pbrt fibre keeps its width.
+#[test]
+fn curves_widen_by_the_diffracting_cylinder() {
+    let width_of = |material: &str| {
+        let text = format!("{HEADER}{material}\nShape \"curve\" \"point3 P\" [ 0 0 0  1 0 0  2 0 0  3 0 0 ] \"float width\" 0.1\n");
+        let loaded = scene::load_text(Path::new("hair.pbrt"), &text).expect("loads");
+        let built =
+            scene::build::build(&loaded.scene, &RenderOverrides::default()).expect("builds");
+        built.shapes.curve_segments[0].width
+    };
+    let plain = width_of("Material \"hair\"");
+    let dual = width_of(
+        "Material \"hair\" \"float ellipse_a\" 30 \"float ellipse_b\" 20 \"float d_diff\" 0.4",
+    );
+    assert!(
+        (plain[0] - 0.1).abs() < 1e-6 && (plain[1] - 0.1).abs() < 1e-6,
+        "{plain:?}"
+    );
+    assert!(
+        (dual[0] - 0.14).abs() < 1e-6 && (dual[1] - 0.14).abs() < 1e-6,
+        "{dual:?}"
+    );
 }

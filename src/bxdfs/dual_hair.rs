@@ -168,7 +168,9 @@ impl DualHairBxDF {
                 -PI,
                 PI,
             )),
-            Diffraction::Spectral => SampledSpectrum(self.k(d_um).map(|k| spectral_density(delta, k))),
+            Diffraction::Spectral => {
+                SampledSpectrum(self.k(d_um).map(|k| spectral_density(delta, k)))
+            }
         }
     }
 
@@ -180,7 +182,10 @@ impl DualHairBxDF {
                 trimmed_logistic(delta, self.params.logistic_scale(d_um), -PI, PI)
             }
             Diffraction::Spectral => {
-                self.k(d_um).iter().map(|&k| spectral_pdf(delta, k)).sum::<f32>()
+                self.k(d_um)
+                    .iter()
+                    .map(|&k| spectral_pdf(delta, k))
+                    .sum::<f32>()
                     / N_SPECTRUM_SAMPLES as f32
             }
         }
@@ -296,19 +301,12 @@ impl DualHairBxDF {
                 (s, c, phi_i)
             }
             Hit::Ring { d_um } => {
-                let (s, c) = sample_longitudinal(
-                    u,
-                    self.base.v[P_MAX],
-                    l.sin_theta_o,
-                    l.cos_theta_o,
-                );
+                let (s, c) =
+                    sample_longitudinal(u, self.base.v[P_MAX], l.sin_theta_o, l.cos_theta_o);
                 let delta = match self.params.diffraction {
-                    Diffraction::Logistic => sample_trimmed_logistic(
-                        uc,
-                        self.params.logistic_scale(*d_um),
-                        -PI,
-                        PI,
-                    ),
+                    Diffraction::Logistic => {
+                        sample_trimmed_logistic(uc, self.params.logistic_scale(*d_um), -PI, PI)
+                    }
                     Diffraction::Spectral => {
                         let scaled = uc * N_SPECTRUM_SAMPLES as f32;
                         let j = (scaled as usize).min(N_SPECTRUM_SAMPLES - 1);
@@ -394,7 +392,12 @@ mod tests {
 
     const LAMBDA: [f32; 4] = [420.0, 510.0, 590.0, 690.0];
 
-    fn params(a_over_b: f32, d_diff: f32, diffraction: Diffraction, variant: Variant) -> DualHairParams {
+    fn params(
+        a_over_b: f32,
+        d_diff: f32,
+        diffraction: Diffraction,
+        variant: Variant,
+    ) -> DualHairParams {
         let fresnel = match variant {
             Variant::Exact => InternalFresnel::Pbrt,
             Variant::Paper => InternalFresnel::Paper,
@@ -409,8 +412,21 @@ mod tests {
         }
     }
 
-    fn bxdf(h: f32, sigma_a: SampledSpectrum, bm: f32, bn: f32, alpha: f32, p: DualHairParams, axis: f32) -> DualHairBxDF {
-        DualHairBxDF::new(HairBxDF::new(h, 1.55, sigma_a, bm, bn, alpha), p, axis, LAMBDA)
+    fn bxdf(
+        h: f32,
+        sigma_a: SampledSpectrum,
+        bm: f32,
+        bn: f32,
+        alpha: f32,
+        p: DualHairParams,
+        axis: f32,
+    ) -> DualHairBxDF {
+        DualHairBxDF::new(
+            HairBxDF::new(h, 1.55, sigma_a, bm, bn, alpha),
+            p,
+            axis,
+            LAMBDA,
+        )
     }
 
     /// ∫ f |cos θi| dωi averaged over h and ωo, by one-sample MIS of
@@ -449,14 +465,33 @@ mod tests {
                         continue;
                     }
                     let exact = albedo(&mut rng, 200_000, |h| {
-                        bxdf(h, SampledSpectrum::ZERO, 0.3, 0.3, 0.0, params(ab, d, diffraction, Variant::Exact), 0.7)
+                        bxdf(
+                            h,
+                            SampledSpectrum::ZERO,
+                            0.3,
+                            0.3,
+                            0.0,
+                            params(ab, d, diffraction, Variant::Exact),
+                            0.7,
+                        )
                     });
                     let paper = albedo(&mut rng, 200_000, |h| {
-                        bxdf(h, SampledSpectrum::ZERO, 0.3, 0.3, 0.0, params(ab, d, diffraction, Variant::Paper), 0.7)
+                        bxdf(
+                            h,
+                            SampledSpectrum::ZERO,
+                            0.3,
+                            0.3,
+                            0.0,
+                            params(ab, d, diffraction, Variant::Paper),
+                            0.7,
+                        )
                     });
                     eprintln!("furnace a/b {ab} d_diff {d} {diffraction:?}: exact {exact:.4}, paper {paper:.4}");
                     assert!((0.99..=1.01).contains(&exact), "a/b {ab} d {d}: {exact}");
-                    assert!(paper < exact && paper > 0.3, "a/b {ab} d {d}: paper {paper}");
+                    assert!(
+                        paper < exact && paper > 0.3,
+                        "a/b {ab} d {d}: paper {paper}"
+                    );
                 }
             }
         }
@@ -508,7 +543,12 @@ mod tests {
             let sigma = SampledSpectrum([0.1, 0.4, 1.0, 3.0]) * rng.next_f32();
             let (bm, bn) = (0.05 + 0.9 * rng.next_f32(), 0.05 + 0.9 * rng.next_f32());
             let pbrt = HairBxDF::new(h, 1.55, sigma, bm, bn, 2.0);
-            let dual = DualHairBxDF::new(pbrt, DualHairParams::circular(25.0), 6.0 * rng.next_f32(), LAMBDA);
+            let dual = DualHairBxDF::new(
+                pbrt,
+                DualHairParams::circular(25.0),
+                6.0 * rng.next_f32(),
+                LAMBDA,
+            );
             let wo = sample_uniform_sphere(rng.next_vec2());
             let wi = sample_uniform_sphere(rng.next_vec2());
             let (f0, f1) = (pbrt.value(wo, wi), dual.value(wo, wi));
@@ -522,7 +562,12 @@ mod tests {
             let (uc, u) = (rng.next_f32(), rng.next_vec2());
             if let (Some(a), Some(b)) = (pbrt.sample(wo, uc, u), dual.sample(wo, uc, u)) {
                 assert!((a.wi - b.wi).length() < 1e-3, "{} vs {}", a.wi, b.wi);
-                assert!((a.pdf - b.pdf).abs() <= 1e-3 * (a.pdf + 1e-2), "{} vs {}", a.pdf, b.pdf);
+                assert!(
+                    (a.pdf - b.pdf).abs() <= 1e-3 * (a.pdf + 1e-2),
+                    "{} vs {}",
+                    a.pdf,
+                    b.pdf
+                );
             }
         }
         eprintln!("a = b vs pbrt-v4: worst relative difference {worst:.2e}");
@@ -533,11 +578,31 @@ mod tests {
     #[test]
     fn chi_square_elliptical() {
         let mut rng = Pcg32Source::new(17);
-        for (ab, h, axis) in [(1.5f32, 0.3f32, 0.4f32), (2.0, -0.8, 2.0), (1.25, 0.95, -1.0)] {
+        for (ab, h, axis) in [
+            (1.5f32, 0.3f32, 0.4f32),
+            (2.0, -0.8, 2.0),
+            (1.25, 0.95, -1.0),
+        ] {
             let p = params(ab, 0.0, Diffraction::Logistic, Variant::Exact);
-            let b = bxdf(h, SampledSpectrum([0.3, 0.5, 0.8, 1.2]), 0.3, 0.4, 2.0, p, axis);
-            let wos = [Vec3::new(0.3, 0.5, 0.81).normalize(), Vec3::new(-0.6, -0.2, 0.3).normalize()];
-            assert_chi2_passes(&format!("ellipse a/b {ab} h {h}"), &tilted_bsdf(BxDF::DualHair(b)), &wos, &mut rng);
+            let b = bxdf(
+                h,
+                SampledSpectrum([0.3, 0.5, 0.8, 1.2]),
+                0.3,
+                0.4,
+                2.0,
+                p,
+                axis,
+            );
+            let wos = [
+                Vec3::new(0.3, 0.5, 0.81).normalize(),
+                Vec3::new(-0.6, -0.2, 0.3).normalize(),
+            ];
+            assert_chi2_passes(
+                &format!("ellipse a/b {ab} h {h}"),
+                &tilted_bsdf(BxDF::DualHair(b)),
+                &wos,
+                &mut rng,
+            );
         }
     }
 
@@ -552,7 +617,9 @@ mod tests {
             let b = bxdf(0.9, SampledSpectrum::ZERO, 0.3, 0.3, 0.0, p, 0.3);
             let wo = Vec3::new(0.2, 0.4, 0.89).normalize();
             let l = b.local(wo);
-            let Hit::Ring { d_um } = l.hit else { panic!("h 0.9 with d_diff 1 is in the ring") };
+            let Hit::Ring { d_um } = l.hit else {
+                panic!("h 0.9 with d_diff 1 is in the ring")
+            };
             let width = 30.0 * p.logistic_scale(d_um);
             let bins = 64;
             let bin = |delta: f32| -> usize {
@@ -597,10 +664,15 @@ mod tests {
     fn numerical_hard_cases() {
         let finite = |b: &DualHairBxDF, wo: Vec3, wi: Vec3| {
             let f = b.value(wo, wi);
-            assert!(f.0.iter().all(|v| v.is_finite() && *v >= 0.0), "{wo} {wi}: {f:?}");
+            assert!(
+                f.0.iter().all(|v| v.is_finite() && *v >= 0.0),
+                "{wo} {wi}: {f:?}"
+            );
             assert!(b.density(wo, wi).is_finite());
             if let Some(s) = b.sample(wo, 0.37, Vec2::new(0.61, 0.23)) {
-                assert!(s.f.0.iter().all(|v| v.is_finite()) && s.pdf.is_finite() && s.wi.is_finite());
+                assert!(
+                    s.f.0.iter().all(|v| v.is_finite()) && s.pdf.is_finite() && s.wi.is_finite()
+                );
             }
             f
         };
@@ -609,7 +681,11 @@ mod tests {
         // θ → ±π/2: Bravais' index unbounded (capped), still finite.
         for wo in [Vec3::X, -Vec3::X, Vec3::new(1.0, 0.0, 1e-6).normalize()] {
             for h in [-1.0f32, -0.3, 0.0, 0.5, 1.0] {
-                finite(&bxdf(h, SampledSpectrum::splat(0.5), 0.3, 0.3, 2.0, p, 0.2), wo, wi);
+                finite(
+                    &bxdf(h, SampledSpectrum::splat(0.5), 0.3, 0.3, 2.0, p, 0.2),
+                    wo,
+                    wi,
+                );
             }
         }
         let wo = Vec3::new(0.1, 0.3, 0.95).normalize();
@@ -637,7 +713,13 @@ mod tests {
         let mut tir_seen = false;
         for i in 0..200 {
             let h = -1.0 + (i as f32 + 0.5) / 100.0;
-            let t = Ellipse::new(2.0, 1.0).trace(0.9, h, &optics, Variant::Exact, InternalFresnel::Pbrt);
+            let t = Ellipse::new(2.0, 1.0).trace(
+                0.9,
+                h,
+                &optics,
+                Variant::Exact,
+                InternalFresnel::Pbrt,
+            );
             tir_seen |= t.exits[1].escape == 0.0;
             let a = t.attenuations(SampledSpectrum::ZERO, 1.0);
             let total: f32 = a.iter().map(|x| x[0]).sum();
@@ -645,14 +727,24 @@ mod tests {
         }
         assert!(tir_seen, "a/b = 2 at φ 0.9 has TIR at the TT exit");
         // beta_m = 0.01 (clamped minimum), eta = 1.0001, σ_a = 0 and 1e4.
-        for (bm, eta, sigma) in [(0.01f32, 1.55f32, 0.0f32), (0.3, 1.0001, 0.0), (0.3, 1.55, 1e4)] {
-            let b = DualHairBxDF::new(HairBxDF::new(0.3, eta, SampledSpectrum::splat(sigma), bm, 0.3, 2.0), p, 0.4, LAMBDA);
+        for (bm, eta, sigma) in [
+            (0.01f32, 1.55f32, 0.0f32),
+            (0.3, 1.0001, 0.0),
+            (0.3, 1.55, 1e4),
+        ] {
+            let b = DualHairBxDF::new(
+                HairBxDF::new(0.3, eta, SampledSpectrum::splat(sigma), bm, 0.3, 2.0),
+                p,
+                0.4,
+                LAMBDA,
+            );
             finite(&b, wo, wi);
             let wr = Vec3::new(-wo.x, -wo.y, wo.z);
             finite(&b, wo, wr);
         }
         // σ_a = 1e4: only R survives (A_TT = 0).
-        let t = Ellipse::new(2.0, 1.0).trace(0.3, 0.2, &optics, Variant::Exact, InternalFresnel::Pbrt);
+        let t =
+            Ellipse::new(2.0, 1.0).trace(0.3, 0.2, &optics, Variant::Exact, InternalFresnel::Pbrt);
         let a = t.attenuations(SampledSpectrum::splat(1e4), 1.0);
         assert!(a[1][0] == 0.0 && a[3][0] == 0.0 && a[0][0] > 0.0);
         // φ wrap-around: ω_o just either side of φ = ±π gives the same value.
@@ -660,15 +752,38 @@ mod tests {
         let w1 = Vec3::new(0.1, -0.99, 1e-6).normalize();
         let w2 = Vec3::new(0.1, -0.99, -1e-6).normalize();
         let (f1, f2) = (finite(&b, w1, wi), finite(&b, w2, wi));
-        assert!((f1[0] - f2[0]).abs() <= 1e-4 * f1[0].max(1e-3), "{f1:?} vs {f2:?}");
+        assert!(
+            (f1[0] - f2[0]).abs() <= 1e-4 * f1[0].max(1e-3),
+            "{f1:?} vs {f2:?}"
+        );
         // …and an axis turned by a whole turn changes nothing.
         let turned = bxdf(0.2, SampledSpectrum::splat(0.3), 0.3, 0.3, 2.0, p, 2.0 * PI);
         let f3 = finite(&turned, w1, wi);
-        assert!((f1[0] - f3[0]).abs() <= 1e-4 * f1[0].max(1e-3), "{f1:?} vs {f3:?}");
+        assert!(
+            (f1[0] - f3[0]).abs() <= 1e-4 * f1[0].max(1e-3),
+            "{f1:?} vs {f3:?}"
+        );
         // d_diff = 0: no ring; d_diff = 1: |h| > 0.5 is the ring.
-        for (d, h, ring) in [(0.0f32, 1.0f32, false), (1.0, 0.5, false), (1.0, 0.51, true), (1.0, -1.0, true)] {
-            let b = bxdf(h, SampledSpectrum::ZERO, 0.3, 0.3, 0.0, params(1.5, d, Diffraction::Logistic, Variant::Exact), 0.0);
-            assert_eq!(matches!(b.local(wo).hit, Hit::Ring { .. }), ring, "d {d} h {h}");
+        for (d, h, ring) in [
+            (0.0f32, 1.0f32, false),
+            (1.0, 0.5, false),
+            (1.0, 0.51, true),
+            (1.0, -1.0, true),
+        ] {
+            let b = bxdf(
+                h,
+                SampledSpectrum::ZERO,
+                0.3,
+                0.3,
+                0.0,
+                params(1.5, d, Diffraction::Logistic, Variant::Exact),
+                0.0,
+            );
+            assert_eq!(
+                matches!(b.local(wo).hit, Hit::Ring { .. }),
+                ring,
+                "d {d} h {h}"
+            );
             finite(&b, wo, wi);
         }
     }

@@ -73,7 +73,13 @@ fn log_i0(x: f32) -> f32 {
 
 /// Longitudinal scattering M_p (d'Eon et al. 2011), with the log form for
 /// low variance where the direct one overflows.
-pub(crate) fn mp(cos_theta_i: f32, cos_theta_o: f32, sin_theta_i: f32, sin_theta_o: f32, v: f32) -> f32 {
+pub(crate) fn mp(
+    cos_theta_i: f32,
+    cos_theta_o: f32,
+    sin_theta_i: f32,
+    sin_theta_o: f32,
+    v: f32,
+) -> f32 {
     let a = cos_theta_i * cos_theta_o / v;
     let b = sin_theta_i * sin_theta_o / v;
     if v <= 0.1 {

@@ -113,7 +113,10 @@ pub fn fit_logistic_scale(d_um: f32) -> (f32, f32) {
     let span = 10.0 * 0.555 / d_um;
     let n = 400;
     let xs: Vec<f32> = (0..=n).map(|i| span * (i as f32 / n as f32)).collect();
-    let target: Vec<f32> = xs.iter().map(|&x| spectral_integral(x, d_um, cie_y)).collect();
+    let target: Vec<f32> = xs
+        .iter()
+        .map(|&x| spectral_integral(x, d_um, cie_y))
+        .collect();
     let err = |s: f32| -> f32 {
         xs.iter()
             .zip(&target)

@@ -279,7 +279,11 @@ impl Ellipse {
             };
             *exit = Exit {
                 // Only the explicit lobes need a direction.
-                phi: if k < LOBES { out.y.atan2(out.x) as f32 } else { 0.0 },
+                phi: if k < LOBES {
+                    out.y.atan2(out.x) as f32
+                } else {
+                    0.0
+                },
                 escape: if tir { 0.0 } else { inside * (1.0 - f) },
                 length: length as f32,
             };
@@ -370,7 +374,11 @@ pub fn h_averaged_row(
             }
             let center = trace.exits[p].phi;
             let k0 = (center / step).round() as i64;
-            let last = if 2 * reach >= n_out as i64 { k0 - reach + n_out as i64 - 1 } else { k0 + reach };
+            let last = if 2 * reach >= n_out as i64 {
+                k0 - reach + n_out as i64 - 1
+            } else {
+                k0 + reach
+            };
             for k in k0 - reach..=last {
                 let k = k.rem_euclid(n_out as i64) as usize;
                 let x = wrap_angle(k as f32 * step - center);
@@ -441,7 +449,10 @@ mod tests {
             assert!(eq7 <= exact * (1.0 + 1e-6));
             worst = worst.max(1.0 - eq7 / exact);
         }
-        eprintln!("Eq. 7 narrower than the exact width by up to {:.2} %", 100.0 * worst);
+        eprintln!(
+            "Eq. 7 narrower than the exact width by up to {:.2} %",
+            100.0 * worst
+        );
         assert!((0.019..0.021).contains(&worst), "{worst}");
     }
 
@@ -463,7 +474,9 @@ mod tests {
             }
             count += 1;
         });
-        eprintln!("Eq. 9/10: signed worst {signed_worst:.1e}; arccos wrong for {unsigned_wrong}/{count}");
+        eprintln!(
+            "Eq. 9/10: signed worst {signed_worst:.1e}; arccos wrong for {unsigned_wrong}/{count}"
+        );
         assert!(signed_worst < 1e-5);
         assert!(unsigned_wrong > count / 3);
     }
@@ -535,7 +548,13 @@ mod tests {
         let optics = Optics::new(ETA as f32, 0.0);
         let (mut worst15, mut worst20, mut count) = (0.0f64, 0.0f64, 0);
         rays(|phi, h| {
-            let t = E.trace(phi as f32, h as f32, &optics, Variant::Exact, InternalFresnel::Pbrt);
+            let t = E.trace(
+                phi as f32,
+                h as f32,
+                &optics,
+                Variant::Exact,
+                InternalFresnel::Pbrt,
+            );
             if t.exits[1].escape == 0.0 || t.exits[2].escape == 0.0 {
                 return; // TIR: no such exit
             }
@@ -581,7 +600,10 @@ mod tests {
                 let fixed = (1.0 - f0) * tt.powi(p) * f1.powi(p - 1) * (1.0 - f1);
                 let printed = (1.0 - f0) * tt.powi(p) * f1.powi(p) * (1.0 - f1);
                 let got = a[p as usize][0];
-                assert!((got - fixed).abs() < 1e-5 * (1.0 + fixed), "h {h} p {p}: {got} vs {fixed}");
+                assert!(
+                    (got - fixed).abs() < 1e-5 * (1.0 + fixed),
+                    "h {h} p {p}: {got} vs {fixed}"
+                );
                 assert!((got - printed).abs() > 0.5 * got, "h {h} p {p}");
             }
             assert_eq!(a[3][0], 0.0, "the paper variant has no residual");
@@ -607,7 +629,11 @@ mod tests {
                     let h = -1.0 + (2.0 * j as f32 + 1.0) / n_h as f32;
                     let tr = e.trace(phi, h, &optics, Variant::Exact, fresnel);
                     let a = tr.attenuations(SampledSpectrum::splat(0.3), 1.0);
-                    let bin = |x: f32| ((x.rem_euclid(2.0 * std::f32::consts::PI)) / (2.0 * std::f32::consts::PI) * bins as f32) as usize % bins;
+                    let bin = |x: f32| {
+                        ((x.rem_euclid(2.0 * std::f32::consts::PI)) / (2.0 * std::f32::consts::PI)
+                            * bins as f32) as usize
+                            % bins
+                    };
                     for p in 0..LOBES {
                         t[p][bin(phi) * bins + bin(tr.exits[p].phi)] += w * a[p][0] as f64;
                     }

@@ -75,7 +75,15 @@ fn refract(d: [f64; 2], n: [f64; 2], e: f64) -> Option<[f64; 2]> {
 
 /// The oracle's maps N_p(φ_i, φ_r) for p = 0, 1, 2 and the total power of
 /// higher orders (h-averaged), on an n × n grid, θ = 0.
-fn oracle_maps(a: f64, b: f64, eta: f64, sigma_a: f64, s: f32, n: usize, n_h: usize) -> ([Vec<f64>; 3], f64) {
+fn oracle_maps(
+    a: f64,
+    b: f64,
+    eta: f64,
+    sigma_a: f64,
+    s: f32,
+    n: usize,
+    n_h: usize,
+) -> ([Vec<f64>; 3], f64) {
     let fibre = Fibre { a, b };
     let mut maps: [Vec<f64>; 3] = std::array::from_fn(|_| vec![0.0; n * n]);
     let mut higher = 0.0;
@@ -97,25 +105,32 @@ fn oracle_maps(a: f64, b: f64, eta: f64, sigma_a: f64, s: f32, n: usize, n_h: us
             for j in 0..n {
                 let phi_r = 2.0 * std::f32::consts::PI * j as f32 / n as f32;
                 let x = wrap_angle(phi_r - phi as f32);
-                maps[p][i * n + j] += weight * trimmed_logistic(x, s, -std::f32::consts::PI, std::f32::consts::PI) as f64;
+                maps[p][i * n + j] += weight
+                    * trimmed_logistic(x, s, -std::f32::consts::PI, std::f32::consts::PI) as f64;
             }
         };
         for k in 0..n_h {
             let h = -1.0 + 2.0 * (k as f64 + uniform()) / n_h as f64;
             let weight = 1.0 / n_h as f64; // ½ dh
             let start = axpy(10.0 * (a + b), u, [h * half * w[0], h * half * w[1]]);
-            let Some((t0, _)) = fibre.hits(start, d0) else { continue };
+            let Some((t0, _)) = fibre.hits(start, d0) else {
+                continue;
+            };
             let x0 = axpy(t0, d0, start);
             let n0 = fibre.normal(x0);
             let ci = -dot(d0, n0);
             let f = fresnel(ci.clamp(0.0, 1.0), 1.0, eta);
             let r = axpy(2.0 * ci, n0, d0);
             deposit(0, r[1].atan2(r[0]), weight * f, &mut maps);
-            let Some(mut d) = refract(d0, n0, 1.0 / eta) else { continue };
+            let Some(mut d) = refract(d0, n0, 1.0 / eta) else {
+                continue;
+            };
             let mut x = x0;
             let mut power = 1.0 - f;
             for p in 1..64 {
-                let Some((_, t1)) = fibre.hits(x, d) else { break };
+                let Some((_, t1)) = fibre.hits(x, d) else {
+                    break;
+                };
                 x = axpy(t1, d, x);
                 power *= (-sigma_a * t1).exp();
                 let nn = fibre.normal(x);
@@ -153,11 +168,23 @@ fn bcsdf_maps_match_the_brute_force_tracer() {
         let (oracle, higher) = oracle_maps(a, b, eta, sigma_a / r, s, n, 6000);
         let ellipse = Ellipse::new(a as f32, b as f32);
         let optics = Optics::new(eta as f32, 0.0);
-        let grid: Vec<f32> = (0..n).map(|j| 2.0 * std::f32::consts::PI * j as f32 / n as f32).collect();
+        let grid: Vec<f32> = (0..n)
+            .map(|j| 2.0 * std::f32::consts::PI * j as f32 / n as f32)
+            .collect();
         let mut model: [Vec<f64>; 3] = std::array::from_fn(|_| vec![0.0; n * n]);
         let mut residual = 0.0f64;
         for i in 0..n {
-            let rows = h_averaged_row(&ellipse, grid[i], &optics, sigma_a as f32, s, Variant::Exact, InternalFresnel::Pbrt, 6000, n);
+            let rows = h_averaged_row(
+                &ellipse,
+                grid[i],
+                &optics,
+                sigma_a as f32,
+                s,
+                Variant::Exact,
+                InternalFresnel::Pbrt,
+                6000,
+                n,
+            );
             for p in 0..3 {
                 for j in 0..n {
                     model[p][i * n + j] = rows[p][j] as f64;
@@ -167,11 +194,21 @@ fn bcsdf_maps_match_the_brute_force_tracer() {
         }
         for p in 0..3 {
             let mass: f64 = oracle[p].iter().sum();
-            let l1: f64 = oracle[p].iter().zip(&model[p]).map(|(o, m)| (o - m).abs()).sum();
-            eprintln!("σ_a {sigma_a}: lobe {p}: L1 difference {:.3} % of mass", 100.0 * l1 / mass);
+            let l1: f64 = oracle[p]
+                .iter()
+                .zip(&model[p])
+                .map(|(o, m)| (o - m).abs())
+                .sum();
+            eprintln!(
+                "σ_a {sigma_a}: lobe {p}: L1 difference {:.3} % of mass",
+                100.0 * l1 / mass
+            );
             assert!(l1 < 0.02 * mass, "lobe {p}: {l1} vs mass {mass}");
         }
         eprintln!("σ_a {sigma_a}: residual power: model {residual:.4}, oracle {higher:.4}");
-        assert!((residual - higher).abs() < 0.01 * higher.max(0.01), "{residual} vs {higher}");
+        assert!(
+            (residual - higher).abs() < 0.01 * higher.max(0.01),
+            "{residual} vs {higher}"
+        );
     }
 }

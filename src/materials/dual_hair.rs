@@ -18,8 +18,9 @@
 //! `ellipse_a`/`ellipse_b` the fibre is circular with radius 25 µm (the
 //! paper's 50 µm reference fibre) for diffraction.
 //!
-//! Geometry: the curve's width is the outer cylinder's, so the fibre
-//! occupies the middle 1/(1 + d_diff) of it (with d_diff = 0, all of it).
+//! Geometry: the written curve width is the fibre's; the scene build widens
+//! the curve to (1 + d_diff) × that, the outer diffracting cylinder, so the
+//! fibre occupies the middle 1/(1 + d_diff) of h (with d_diff = 0, all of it).
 
 use crate::bxdfs::dual_hair::DualHairParams;
 use crate::bxdfs::hair_diffraction::Diffraction;
@@ -40,7 +41,10 @@ pub fn read(p: &ParamSet) -> Result<Option<(DualHairParams, f32)>> {
         };
         match param.numbers() {
             [x] if (*x as f32).is_finite() => Ok(Some((*x as f32, param.location.clone()))),
-            [x] => scene_error(format!("\"{name}\" must be finite, not {x}"), &param.location),
+            [x] => scene_error(
+                format!("\"{name}\" must be finite, not {x}"),
+                &param.location,
+            ),
             _ => scene_error(format!("\"{name}\" takes one value"), &param.location),
         }
     };
@@ -76,7 +80,10 @@ pub fn read(p: &ParamSet) -> Result<Option<(DualHairParams, f32)>> {
     let (ellipse, mean_radius_um) = match (a, b) {
         (None, None) => (Ellipse::CIRCLE, DEFAULT_RADIUS_UM),
         (Some((_, loc)), None) | (None, Some((_, loc))) => {
-            return scene_error("\"ellipse_a\" and \"ellipse_b\" must be given together", &loc)
+            return scene_error(
+                "\"ellipse_a\" and \"ellipse_b\" must be given together",
+                &loc,
+            )
         }
         (Some((a, la)), Some((b, lb))) => {
             if a <= 0.0 {
@@ -121,5 +128,8 @@ pub fn read(p: &ParamSet) -> Result<Option<(DualHairParams, f32)>> {
         variant,
         internal_fresnel,
     };
-    Ok(Some((params, orientation.map_or(0.0, |(o, _)| o.to_radians()))))
+    Ok(Some((
+        params,
+        orientation.map_or(0.0, |(o, _)| o.to_radians()),
+    )))
 }

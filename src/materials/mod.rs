@@ -166,6 +166,18 @@ fn eta_param(tp: &TextureParams, name: &str) -> Result<Eta> {
 }
 
 impl Material {
+    /// How much wider than written this material's curves are: 1 + d_diff
+    /// for the dual hair model's diffracting outer cylinder, else 1.
+    pub fn curve_width_scale(&self) -> f32 {
+        match self {
+            Material::Hair {
+                dual: Some((params, _)),
+                ..
+            } => 1.0 + params.d_diff,
+            _ => 1.0,
+        }
+    }
+
     pub fn create(
         entity: &Entity,
         textures: &NamedTextures,

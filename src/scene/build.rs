@@ -369,6 +369,13 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
             &mut shapes,
             &mut warnings,
         )?;
+        // The dual hair model's diffracting outer cylinder: the curve is
+        // (1 + d_diff) × the fibre's width (issue 5; the BSDF maps the inner
+        // 1/(1 + d_diff) of h to the fibre).
+        let widening = materials[material as usize].curve_width_scale();
+        if widening != 1.0 {
+            shapes.scale_curve_widths(&created, widening);
+        }
         let area = match shape.area_light {
             Some(a) if matches!(materials[material as usize], Material::Interface) => {
                 warnings.push(Warning {

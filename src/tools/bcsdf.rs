@@ -118,12 +118,23 @@ impl BcsdfArgs {
     /// The logistic scale of the ray lobes.
     fn scale(&self) -> f32 {
         self.logistic_scale.unwrap_or_else(|| {
-            HairBxDF::new(0.0, self.eta, Default::default(), self.beta_m, self.beta_n.clamp(0.01, 1.0), 0.0).s
+            HairBxDF::new(
+                0.0,
+                self.eta,
+                Default::default(),
+                self.beta_m,
+                self.beta_n.clamp(0.01, 1.0),
+                0.0,
+            )
+            .s
         })
     }
 
     fn sigma_a(&self) -> f32 {
-        let rgb = HairBxDF::sigma_a_from_concentration(self.eumelanin.max(0.0), self.pheomelanin.max(0.0));
+        let rgb = HairBxDF::sigma_a_from_concentration(
+            self.eumelanin.max(0.0),
+            self.pheomelanin.max(0.0),
+        );
         rgb.iter().sum::<f32>() / 3.0
     }
 }
@@ -134,7 +145,10 @@ pub fn maps(args: &BcsdfArgs) -> Result<Maps, String> {
     let n = args.resolution.max(2);
     let optics = Optics::new(args.eta, args.theta_i.to_radians().sin());
     let grid: Vec<f32> = (0..n).map(|k| 2.0 * PI * k as f32 / n as f32).collect();
-    let (ray_w, diff_w) = (1.0 / (1.0 + params.d_diff), params.d_diff / (1.0 + params.d_diff));
+    let (ray_w, diff_w) = (
+        1.0 / (1.0 + params.d_diff),
+        params.d_diff / (1.0 + params.d_diff),
+    );
     let mut maps: [Vec<f32>; 6] = std::array::from_fn(|_| vec![0.0; n * n]);
     for (i, &phi_i) in grid.iter().enumerate() {
         let rows = h_averaged_row(
@@ -176,7 +190,11 @@ pub fn maps(args: &BcsdfArgs) -> Result<Maps, String> {
 /// Blue → yellow, as the paper's figures.
 fn colour(t: f32) -> image::Rgb<u8> {
     let t = t.clamp(0.0, 1.0);
-    image::Rgb([(255.0 * t) as u8, (255.0 * t) as u8, (255.0 * (1.0 - t)) as u8])
+    image::Rgb([
+        (255.0 * t) as u8,
+        (255.0 * t) as u8,
+        (255.0 * (1.0 - t)) as u8,
+    ])
 }
 
 /// R, TT, TRT, diffraction and total side by side (each scaled to its own
@@ -192,7 +210,9 @@ fn write_png(m: &Maps, path: &PathBuf) -> Result<(), String> {
         m.maps[2].clone(),
         m.maps[4].clone(),
         (0..m.maps[0].len())
-            .map(|c| m.maps[0][c] + m.maps[1][c] + m.maps[2][c] + m.maps[3][c] + m.maps[4][c].sqrt())
+            .map(|c| {
+                m.maps[0][c] + m.maps[1][c] + m.maps[2][c] + m.maps[3][c] + m.maps[4][c].sqrt()
+            })
             .collect(),
     ];
     for (k, panel) in panels.iter().enumerate() {
@@ -204,7 +224,8 @@ fn write_png(m: &Maps, path: &PathBuf) -> Result<(), String> {
             }
         }
     }
-    img.save(path).map_err(|e| format!("{}: {e}", path.display()))
+    img.save(path)
+        .map_err(|e| format!("{}: {e}", path.display()))
 }
 
 /// Fig. 7: the spectral integral per CIE channel and the fitted logistic
@@ -241,9 +262,17 @@ fn spectral_plot(args: &BcsdfArgs) -> Result<(), String> {
         // black.
         let (w, h, gap) = (n as u32, 200u32, 4u32);
         let mut img = image::RgbImage::from_pixel(3 * w + 2 * gap, h, image::Rgb([255, 255, 255]));
-        let max = rows.iter().map(|r| r[1].max(r[2]).max(r[3]).max(r[4])).fold(0.0f32, f32::max).max(1e-30);
+        let max = rows
+            .iter()
+            .map(|r| r[1].max(r[2]).max(r[3]).max(r[4]))
+            .fold(0.0f32, f32::max)
+            .max(1e-30);
         let y = |v: f32| h - 1 - ((v / max) * (h - 1) as f32).clamp(0.0, (h - 1) as f32) as u32;
-        let tints = [image::Rgb([200, 0, 0]), image::Rgb([0, 160, 0]), image::Rgb([0, 0, 220])];
+        let tints = [
+            image::Rgb([200, 0, 0]),
+            image::Rgb([0, 160, 0]),
+            image::Rgb([0, 0, 220]),
+        ];
         for (c, tint) in tints.iter().enumerate() {
             for (k, r) in rows.iter().enumerate() {
                 let x = c as u32 * (w + gap) + k as u32;
@@ -251,7 +280,8 @@ fn spectral_plot(args: &BcsdfArgs) -> Result<(), String> {
                 img.put_pixel(x, y(r[4]), image::Rgb([0, 0, 0]));
             }
         }
-        img.save(path).map_err(|e| format!("{}: {e}", path.display()))?;
+        img.save(path)
+            .map_err(|e| format!("{}: {e}", path.display()))?;
     }
     Ok(())
 }
@@ -267,7 +297,10 @@ pub fn run(args: &BcsdfArgs) -> Result<(), String> {
         for i in 0..m.n {
             for j in 0..m.n {
                 let cell = i * m.n + j;
-                let (pi, pr) = (2.0 * PI * i as f32 / m.n as f32, 2.0 * PI * j as f32 / m.n as f32);
+                let (pi, pr) = (
+                    2.0 * PI * i as f32 / m.n as f32,
+                    2.0 * PI * j as f32 / m.n as f32,
+                );
                 let _ = write!(s, "{pi},{pr}");
                 for c in &m.maps {
                     let _ = write!(s, ",{}", c[cell]);
@@ -305,15 +338,37 @@ mod tests {
         let csv = dir.join("maps.csv");
         let png = dir.join("maps.png");
         let cli = Cli::parse_from([
-            "bcsdf", "--logistic-scale", "0.05", "--d-diff", "0.4", "--resolution", "48",
-            "--csv", csv.to_str().unwrap(), "--png", png.to_str().unwrap(),
+            "bcsdf",
+            "--logistic-scale",
+            "0.05",
+            "--d-diff",
+            "0.4",
+            "--resolution",
+            "48",
+            "--csv",
+            csv.to_str().unwrap(),
+            "--png",
+            png.to_str().unwrap(),
         ]);
         let params = cli.args.params().unwrap();
         let optics = Optics::new(1.55, 0.0);
         let n = 1440;
         for phi_i in [0.0f32, 0.7, 2.0] {
-            let rows = h_averaged_row(&params.ellipse, phi_i, &optics, 0.0, 0.05, Variant::Exact, InternalFresnel::Pbrt, 2000, n);
-            let total: f32 = rows.iter().map(|r| r.iter().sum::<f32>() * 2.0 * PI / n as f32).sum();
+            let rows = h_averaged_row(
+                &params.ellipse,
+                phi_i,
+                &optics,
+                0.0,
+                0.05,
+                Variant::Exact,
+                InternalFresnel::Pbrt,
+                2000,
+                n,
+            );
+            let total: f32 = rows
+                .iter()
+                .map(|r| r.iter().sum::<f32>() * 2.0 * PI / n as f32)
+                .sum();
             assert!((total - 1.0).abs() < 2e-3, "φ_i {phi_i}: {total}");
         }
         let m = maps(&cli.args).unwrap();
@@ -325,7 +380,10 @@ mod tests {
         }
         run(&cli.args).unwrap();
         let text = std::fs::read_to_string(&csv).unwrap();
-        assert_eq!(text.lines().next(), Some("phi_i,phi_r,R,TT,TRT,residual,diffraction,total"));
+        assert_eq!(
+            text.lines().next(),
+            Some("phi_i,phi_r,R,TT,TRT,residual,diffraction,total")
+        );
         assert_eq!(text.lines().count(), 1 + 48 * 48);
         assert!(png.exists());
         let _ = std::fs::remove_dir_all(&dir);
