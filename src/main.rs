@@ -2,7 +2,7 @@
 //! command's arguments and work are in `rpbrt::tools`.
 
 use clap::Parser as _;
-use rpbrt::tools::{convergence, imgtool, render_scene, report};
+use rpbrt::tools::{bcsdf, convergence, imgtool, render_scene, report};
 use std::process::ExitCode;
 
 /// Renders pbrt-v4 scenes (pbrt-v3 scenes are read too): `rpbrt FILE
@@ -28,15 +28,26 @@ enum Command {
     Imgtool(imgtool::ImgtoolArgs),
     Convergence(convergence::ConvergenceArgs),
     Report(report::ReportArgs),
+    /// The dual hair model's azimuthal scattering maps and diffraction spectra.
+    Bcsdf(bcsdf::BcsdfArgs),
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let (outcome, error_code) = match &cli.command {
-        None => (render_scene::run(&cli.render).map(|()| ExitCode::SUCCESS), 1),
+        None => (
+            render_scene::run(&cli.render).map(|()| ExitCode::SUCCESS),
+            1,
+        ),
         Some(Command::Imgtool(args)) => (imgtool::run(args), imgtool::ERROR_EXIT_CODE),
         Some(Command::Convergence(args)) => (convergence::run(args).map(|()| ExitCode::SUCCESS), 1),
         Some(Command::Report(args)) => (report::run(args).map(|()| ExitCode::SUCCESS), 1),
+        Some(Command::Bcsdf(args)) => (
+            bcsdf::run(args)
+                .map(|()| ExitCode::SUCCESS)
+                .map_err(rpbrt::error::Error::Usage),
+            1,
+        ),
     };
     outcome.unwrap_or_else(|e| {
         eprintln!("error: {e}");

@@ -73,7 +73,7 @@ pub fn render_file(
             let Some(camera_ray) = built.camera.generate_ray(&sample, &lambda) else {
                 return;
             };
-            let mut l = path_li(&built, camera_ray.ray, &mut lambda, sampler) * camera_ray.weight;
+            let mut l = path_li(&built, &camera_ray, &mut lambda, sampler) * camera_ray.weight;
             if l.has_nan() || l.0.iter().any(|v| v.is_infinite()) {
                 bad.fetch_add(1, Ordering::Relaxed);
                 l = crate::spectrum::SampledSpectrum::ZERO;

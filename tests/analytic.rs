@@ -1,24 +1,11 @@
 //! Scenes with known answers.
 
+mod common;
+
 use rpbrt::image::Image;
-use rpbrt::scene::build::RenderOverrides;
-use std::path::PathBuf;
 
 fn render(name: &str, scene: &str, spp: u32, threads: usize) -> Image {
-    let dir = std::env::temp_dir().join(format!("rpbrt-analytic-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("scene.pbrt");
-    std::fs::write(&path, scene).unwrap();
-    let out: PathBuf = dir.join("out.exr");
-    let overrides = RenderOverrides {
-        spp: Some(spp),
-        outfile: Some(out.clone()),
-        ..Default::default()
-    };
-    rpbrt::pipeline::render_file(&path, &overrides, threads, false).unwrap();
-    let image = Image::read(&out).unwrap();
-    std::fs::remove_dir_all(&dir).ok();
-    image
+    common::render_text(name, scene, spp, threads, Default::default())
 }
 
 fn furnace(integrator: &str) -> String {

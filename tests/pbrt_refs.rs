@@ -76,10 +76,16 @@ fn cornell_box_matches_pbrt_v4() {
     check_scene(&shared, "cornell-box-256", 64);
 }
 
-/// Known gap (issue 4 stays open on it): on this single bright, thin
-/// strand rpbrt's MRSE varies strongly with the seed (0.00037–0.0041 at
-/// 64 spp; 0.00048 vs pbrt-v4's 0.00034 at 256 spp) while block bias
-/// matches — rarer but larger outliers than pbrt-v4's. Run with
+/// Known gap (issue 4 stays open on it). On this single curly strand the
+/// MRSE is set by a few fireflies per image: over seeds 1–10 at 64 spp
+/// rpbrt's MRSE runs 0.00037–0.0047 (median 0.0021) against pbrt-v4's one
+/// draw of 0.00039, while block bias and the image mean match. Each
+/// outlier is one sample of radiance ≈ 1 (the pixel's mean is ≈ 0.01):
+/// next-event estimation of the distant light at the third or later hit,
+/// after the path has crossed loops of the same strand. pbrt-v4's own
+/// 16- and 256-spp images have the same kind (at 256 spp: 3 of ≥ 60 in
+/// pixel units against rpbrt's 4 of ≥ 100), so the two may differ only in
+/// luck; the cause of the possibly higher rate is not found. Run with
 /// `--ignored` while investigating.
 #[test]
 #[ignore = "hair-curl-300 MRSE above 1.25 × pbrt-v4's for some seeds: under investigation"]

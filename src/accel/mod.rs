@@ -1,5 +1,6 @@
 //! Acceleration structures.
 
 pub mod bvh;
+pub mod instance;
 
 pub use bvh::Bvh;

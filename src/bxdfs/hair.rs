@@ -29,9 +29,9 @@ pub struct HairBxDF {
     /// Absorption coefficient inside the fibre (per unit diameter).
     pub sigma_a: SampledSpectrum,
     /// Longitudinal variances v_p of M_p.
-    v: [f32; P_MAX + 1],
+    pub(crate) v: [f32; P_MAX + 1],
     /// Logistic scale s of N_p.
-    s: f32,
+    pub(crate) s: f32,
     /// sin and cos of 2^k α, k = 0, 1, 2 (cuticle tilt shifts).
     sin_2k_alpha: [f32; 3],
     cos_2k_alpha: [f32; 3],
@@ -73,7 +73,13 @@ fn log_i0(x: f32) -> f32 {
 
 /// Longitudinal scattering M_p (d'Eon et al. 2011), with the log form for
 /// low variance where the direct one overflows.
-fn mp(cos_theta_i: f32, cos_theta_o: f32, sin_theta_i: f32, sin_theta_o: f32, v: f32) -> f32 {
+pub(crate) fn mp(
+    cos_theta_i: f32,
+    cos_theta_o: f32,
+    sin_theta_i: f32,
+    sin_theta_o: f32,
+    v: f32,
+) -> f32 {
     let a = cos_theta_i * cos_theta_o / v;
     let b = sin_theta_i * sin_theta_o / v;
     if v <= 0.1 {
@@ -104,7 +110,7 @@ fn phi(p: usize, gamma_o: f32, gamma_t: f32) -> f32 {
     2.0 * p as f32 * gamma_t - 2.0 * gamma_o + p as f32 * PI
 }
 
-fn logistic(x: f32, s: f32) -> f32 {
+pub(crate) fn logistic(x: f32, s: f32) -> f32 {
     let x = x.abs();
     let e = (-x / s).exp();
     e / (s * sqr(1.0 + e))
@@ -115,27 +121,61 @@ fn logistic_cdf(x: f32, s: f32) -> f32 {
 }
 
 /// The logistic restricted to [a, b] and renormalised.
-fn trimmed_logistic(x: f32, s: f32, a: f32, b: f32) -> f32 {
+pub(crate) fn trimmed_logistic(x: f32, s: f32, a: f32, b: f32) -> f32 {
     logistic(x, s) / (logistic_cdf(b, s) - logistic_cdf(a, s))
 }
 
-fn sample_trimmed_logistic(u: f32, s: f32, a: f32, b: f32) -> f32 {
+pub(crate) fn sample_trimmed_logistic(u: f32, s: f32, a: f32, b: f32) -> f32 {
     let k = logistic_cdf(b, s) - logistic_cdf(a, s);
     let x = -s * (1.0 / (u * k + logistic_cdf(a, s)) - 1.0).ln();
     x.clamp(a, b)
 }
 
+/// An angle into [−π, π] (a bounded loop: angles here come from atan2
+/// differences and sums).
+pub(crate) fn wrap_angle(mut x: f32) -> f32 {
+    if !x.is_finite() || x.abs() > 64.0 {
+        // Not a sum of a few angles (and ∞ would never leave the loop).
+        return (x + PI).rem_euclid(2.0 * PI) - PI;
+    }
+    while x > PI {
+        x -= 2.0 * PI;
+    }
+    while x < -PI {
+        x += 2.0 * PI;
+    }
+    x
+}
+
 /// Azimuthal scattering N_p around lobe p's deflection.
 fn np(phi_: f32, p: usize, s: f32, gamma_o: f32, gamma_t: f32) -> f32 {
-    let mut dphi = phi_ - phi(p, gamma_o, gamma_t);
-    // Into [−π, π] (a bounded loop: φ comes from atan2 differences).
-    while dphi > PI {
-        dphi -= 2.0 * PI;
+    let dphi = phi_ - phi(p, gamma_o, gamma_t);
+    trimmed_logistic(wrap_angle(dphi), s, -PI, PI)
+}
+
+/// Picks lobe p with probability `pdf[p]` and remaps `uc` to [0, 1)
+/// within its interval (so it can drive the lobe's azimuth).
+pub(crate) fn choose_lobe(pdf: &[f32; P_MAX + 1], uc: f32) -> (usize, f32) {
+    let mut p = 0;
+    let mut acc = 0.0;
+    loop {
+        if p == P_MAX || uc < acc + pdf[p] {
+            let width = pdf[p].max(f32::MIN_POSITIVE);
+            return (p, ((uc - acc) / width).clamp(0.0, 1.0 - f32::EPSILON / 2.0));
+        }
+        acc += pdf[p];
+        p += 1;
     }
-    while dphi < -PI {
-        dphi += 2.0 * PI;
-    }
-    trimmed_logistic(dphi, s, -PI, PI)
+}
+
+/// Samples θ_i from M_p of variance v around the (tilted) θ_o
+/// (d'Eon et al. 2013's sampling, as pbrt): returns (sin θ_i, cos θ_i).
+pub(crate) fn sample_longitudinal(u: Vec2, v: f32, sin_o: f32, cos_o: f32) -> (f32, f32) {
+    let cos_theta = 1.0 + v * (u.x.max(1e-5) + (1.0 - u.x) * (-2.0 / v).exp()).ln();
+    let sin_theta = safe_sqrt(1.0 - sqr(cos_theta));
+    let cos_phi = (2.0 * PI * u.y).cos();
+    let sin_theta_i = (-cos_theta * sin_o + sin_theta * cos_phi * cos_o).clamp(-1.0, 1.0);
+    (sin_theta_i, safe_sqrt(1.0 - sqr(sin_theta_i)))
 }
 
 /// Angles of ω_o needed by every lobe.
@@ -215,7 +255,7 @@ impl HairBxDF {
 
     /// sin θ_o, cos θ_o rotated by the cuticle tilt for lobe p (R tilts by
     /// −2α, TT by α, TRT by 4α).
-    fn tilted(&self, p: usize, sin_theta_o: f32, cos_theta_o: f32) -> (f32, f32) {
+    pub(crate) fn tilted(&self, p: usize, sin_theta_o: f32, cos_theta_o: f32) -> (f32, f32) {
         let (s, c) = match p {
             0 => (
                 sin_theta_o * self.cos_2k_alpha[1] - cos_theta_o * self.sin_2k_alpha[1],
@@ -283,26 +323,9 @@ impl HairBxDF {
     pub fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<HairSample> {
         let o = self.outgoing(wo);
         let ap_pdf = self.ap_pdf(&o);
-        // Pick p and remap uc to [0, 1) within its interval.
-        let mut p = 0;
-        let mut acc = 0.0;
-        let mut uc = uc;
-        loop {
-            if p == P_MAX || uc < acc + ap_pdf[p] {
-                let width = ap_pdf[p].max(f32::MIN_POSITIVE);
-                uc = ((uc - acc) / width).clamp(0.0, 1.0 - f32::EPSILON / 2.0);
-                break;
-            }
-            acc += ap_pdf[p];
-            p += 1;
-        }
+        let (p, uc) = choose_lobe(&ap_pdf, uc);
         let (sin_o, cos_o) = self.tilted(p, o.sin_theta_o, o.cos_theta_o);
-        let v = self.v[p];
-        let cos_theta = 1.0 + v * (u.x.max(1e-5) + (1.0 - u.x) * (-2.0 / v).exp()).ln();
-        let sin_theta = safe_sqrt(1.0 - sqr(cos_theta));
-        let cos_phi = (2.0 * PI * u.y).cos();
-        let sin_theta_i = (-cos_theta * sin_o + sin_theta * cos_phi * cos_o).clamp(-1.0, 1.0);
-        let cos_theta_i = safe_sqrt(1.0 - sqr(sin_theta_i));
+        let (sin_theta_i, cos_theta_i) = sample_longitudinal(u, self.v[p], sin_o, cos_o);
         let dphi = if p < P_MAX {
             phi(p, o.gamma_o, o.gamma_t) + sample_trimmed_logistic(uc, self.s, -PI, PI)
         } else {
@@ -618,20 +641,25 @@ mod tests {
     }
 }
 
-/// The common BxDF interface (see [`super::BxDF`]). pbrt-v4 flags hair as
+/// The common BxDF interface (see [`super::BxDF`]) of both hair models,
+/// written once over their value, sample and density. pbrt-v4 flags hair as
 /// glossy reflection, though it also transmits (TT).
-impl HairBxDF {
-    pub fn flags(&self) -> super::BxDFFlags {
+pub trait HairScattering {
+    fn value(&self, wo: Vec3, wi: Vec3) -> SampledSpectrum;
+    fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<HairSample>;
+    fn density(&self, wo: Vec3, wi: Vec3) -> f32;
+
+    fn flags(&self) -> super::BxDFFlags {
         super::BxDFFlags::GLOSSY_REFLECTION
     }
 
-    pub fn regularize(&mut self) {}
+    fn regularize(&mut self) {}
 
-    pub fn f(&self, wo: Vec3, wi: Vec3, _mode: super::TransportMode) -> SampledSpectrum {
+    fn f(&self, wo: Vec3, wi: Vec3, _mode: super::TransportMode) -> SampledSpectrum {
         self.value(wo, wi)
     }
 
-    pub fn sample_f(
+    fn sample_f(
         &self,
         wo: Vec3,
         uc: f32,
@@ -646,7 +674,7 @@ impl HairBxDF {
         Some(super::BSDFSample::new(s.f, s.wi, s.pdf, self.flags()))
     }
 
-    pub fn pdf(
+    fn pdf(
         &self,
         wo: Vec3,
         wi: Vec3,
@@ -657,5 +685,17 @@ impl HairBxDF {
             return 0.0;
         }
         self.density(wo, wi)
+    }
+}
+
+impl HairScattering for HairBxDF {
+    fn value(&self, wo: Vec3, wi: Vec3) -> SampledSpectrum {
+        HairBxDF::value(self, wo, wi)
+    }
+    fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<HairSample> {
+        HairBxDF::sample(self, wo, uc, u)
+    }
+    fn density(&self, wo: Vec3, wi: Vec3) -> f32 {
+        HairBxDF::density(self, wo, wi)
     }
 }

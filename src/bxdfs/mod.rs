@@ -12,10 +12,15 @@ mod conductor;
 mod dielectric;
 mod diffuse;
 mod diffuse_transmission;
+pub mod dual_hair;
 mod flags;
 pub mod fresnel;
 pub mod geometry;
 pub mod hair;
+pub mod hair_diffraction;
+pub mod hair_ellipse;
+#[cfg(test)]
+mod hair_ellipse_oracle;
 mod henyey_greenstein;
 mod layered;
 mod microfacet;
@@ -41,6 +46,7 @@ pub use transport_mode::TransportMode;
 
 use crate::spectrum::SampledSpectrum;
 use glam::{Vec2, Vec3};
+use hair::HairScattering as _;
 
 /// The BxDFs pbrt-v4's materials create (hair and measured BxDFs aside).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -53,6 +59,7 @@ pub enum BxDF {
     CoatedConductor(CoatedConductorBxDF),
     DiffuseTransmission(DiffuseTransmissionBxDF),
     Hair(hair::HairBxDF),
+    DualHair(dual_hair::DualHairBxDF),
 }
 
 /// Expands to a `match` calling `$method` on whichever BxDF `$self` holds.
@@ -67,6 +74,7 @@ macro_rules! dispatch {
             BxDF::CoatedConductor($bxdf) => $call,
             BxDF::DiffuseTransmission($bxdf) => $call,
             BxDF::Hair($bxdf) => $call,
+            BxDF::DualHair($bxdf) => $call,
         }
     };
 }

@@ -3,6 +3,7 @@
 //! Render space is pbrt-v4's default "cameraworld": world axes, origin at the
 //! camera, which keeps coordinates small where the rays are.
 
+pub mod differentials;
 pub mod perspective;
 pub mod transform;
 
@@ -13,7 +14,7 @@ use crate::error::{scene_error, Result};
 use crate::math::Ray;
 use crate::scene::description;
 use crate::spectrum::SampledWavelengths;
-use glam::{IVec2, Vec2};
+use glam::{IVec2, Vec2, Vec3};
 
 /// Where on the film and lens, and when, a camera ray starts.
 #[derive(Clone, Copy, Debug, Default)]
@@ -33,10 +34,18 @@ pub struct CameraSample {
 pub struct CameraRay {
     pub ray: Ray,
     pub weight: f32,
+    /// Rays one pixel over in x and y, for texture filtering at the first hit.
+    pub differentials: Option<differentials::RayDifferentials>,
 }
 
 pub enum Camera {
     Perspective(PerspectiveCamera),
+}
+
+/// How much of a pixel a camera ray's footprint spans: max(1/8, 1/√spp),
+/// as pbrt-v4 scales its differentials.
+fn differential_scale(samples_per_pixel: u32) -> f32 {
+    (1.0 / (samples_per_pixel.max(1) as f32).sqrt()).max(0.125)
 }
 
 impl Camera {
@@ -65,6 +74,42 @@ impl Camera {
         match self {
             Camera::Perspective(c) => c.generate_ray(sample),
         }
+    }
+
+    /// Approximate (∂p/∂x, ∂p/∂y) at a render-space point with normal `n`
+    /// for a render of `samples_per_pixel` (see [`differentials`]).
+    pub fn approximate_dp_dxy(&self, p: Vec3, n: Vec3, samples_per_pixel: u32) -> (Vec3, Vec3) {
+        let scale = differential_scale(samples_per_pixel);
+        match self {
+            Camera::Perspective(c) => {
+                c.min_differentials
+                    .approximate_dp_dxy(&c.transform, p, n, scale)
+            }
+        }
+    }
+
+    /// (∂p/∂x, ∂p/∂y) at the first hit `p` (normal `n`) of a camera ray,
+    /// from its differentials when it has them (pbrt-v4's
+    /// `ComputeDifferentials`), else approximated.
+    pub fn first_hit_dp_dxy(
+        &self,
+        camera_ray: &CameraRay,
+        p: Vec3,
+        n: Vec3,
+        samples_per_pixel: u32,
+    ) -> (Vec3, Vec3) {
+        let ray = &camera_ray.ray;
+        camera_ray
+            .differentials
+            .and_then(|d| {
+                d.scaled(
+                    ray.origin,
+                    ray.direction,
+                    differential_scale(samples_per_pixel),
+                )
+                .dp_dxy(p, n)
+            })
+            .unwrap_or_else(|| self.approximate_dp_dxy(p, n, samples_per_pixel))
     }
 
     pub fn transform(&self) -> &CameraTransform {

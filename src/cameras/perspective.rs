@@ -9,6 +9,7 @@
 //! | `screenwindow` | float[4] | from the aspect ratio | screen window xmin xmax ymin ymax |
 //! | `shutteropen`, `shutterclose` | float | 0, 1 | shutter interval |
 
+use super::differentials::{MinimumDifferentials, RayDifferentials, RayWithNeighbours};
 use super::{CameraRay, CameraSample, CameraTransform};
 use crate::error::{scene_error, Result};
 use crate::math::sampling::sample_uniform_disk_concentric;
@@ -28,6 +29,7 @@ pub struct PerspectiveCamera {
     tan_half_fov: f32,
     lens_radius: f32,
     focal_distance: f32,
+    pub min_differentials: MinimumDifferentials,
 }
 
 impl PerspectiveCamera {
@@ -69,44 +71,80 @@ impl PerspectiveCamera {
         }
         p.report_unused(|| "camera \"perspective\"".into())?;
         let res = full_resolution.as_vec2();
+        let screen_origin = Vec2::new(window[0], window[3]);
+        let screen_per_pixel = Vec2::new(
+            (window[1] - window[0]) / res.x,
+            -(window[3] - window[2]) / res.y,
+        );
+        let tan_half_fov = (fov.to_radians() / 2.0).tan();
+        // Rays through the lens centre (pbrt-v4 samples the lens at its
+        // centre here, where thin-lens rays are pinhole ones).
+        let min_differentials = MinimumDifferentials::find(res, |p_film| {
+            let screen = screen_origin + p_film * screen_per_pixel;
+            let p = Vec3::new(screen.x * tan_half_fov, screen.y * tan_half_fov, 1.0);
+            let dx = Vec3::new(screen_per_pixel.x * tan_half_fov, 0.0, 0.0);
+            let dy = Vec3::new(0.0, screen_per_pixel.y * tan_half_fov, 0.0);
+            Some(RayWithNeighbours {
+                ray: (Vec3::ZERO, p.normalize()),
+                x: (Vec3::ZERO, (p + dx).normalize()),
+                y: (Vec3::ZERO, (p + dy).normalize()),
+            })
+        });
         Ok(PerspectiveCamera {
             transform,
             shutter_open,
             shutter_close,
-            screen_origin: Vec2::new(window[0], window[3]),
-            screen_per_pixel: Vec2::new(
-                (window[1] - window[0]) / res.x,
-                -(window[3] - window[2]) / res.y,
-            ),
-            tan_half_fov: (fov.to_radians() / 2.0).tan(),
+            screen_origin,
+            screen_per_pixel,
+            tan_half_fov,
             lens_radius,
             focal_distance,
+            min_differentials,
         })
     }
 
     pub fn generate_ray(&self, sample: &CameraSample) -> Option<CameraRay> {
         let screen = self.screen_origin + sample.p_film * self.screen_per_pixel;
-        let mut origin = Vec3::ZERO;
-        let mut direction = Vec3::new(
+        let p_camera = Vec3::new(
             screen.x * self.tan_half_fov,
             screen.y * self.tan_half_fov,
             1.0,
-        )
-        .normalize();
+        );
+        // One pixel over in x and y, on the same z = 1 plane.
+        let dx_camera = Vec3::new(self.screen_per_pixel.x * self.tan_half_fov, 0.0, 0.0);
+        let dy_camera = Vec3::new(0.0, self.screen_per_pixel.y * self.tan_half_fov, 0.0);
+        let mut origin = Vec3::ZERO;
+        let mut direction = p_camera.normalize();
+        let mut rx = (origin, (p_camera + dx_camera).normalize());
+        let mut ry = (origin, (p_camera + dy_camera).normalize());
         if self.lens_radius > 0.0 {
             let lens = self.lens_radius * sample_uniform_disk_concentric(sample.p_lens);
-            let focus = direction * (self.focal_distance / direction.z);
             origin = Vec3::new(lens.x, lens.y, 0.0);
-            direction = (focus - origin).normalize();
+            // Each ray passes through its own point on the plane of focus.
+            let through_lens = |d: Vec3| {
+                let focus = d * (self.focal_distance / d.z);
+                (origin, (focus - origin).normalize())
+            };
+            direction = through_lens(direction).1;
+            rx = through_lens(rx.1);
+            ry = through_lens(ry.1);
         }
         let time = crate::math::lerp(sample.time, self.shutter_open, self.shutter_close);
         let m = &self.transform.render_from_camera;
-        let ray = Ray::new(
-            m.transform_point3(origin),
-            m.transform_vector3(direction).normalize(),
-            time,
-        );
-        Some(CameraRay { ray, weight: 1.0 })
+        let to_render =
+            |(o, d): (Vec3, Vec3)| (m.transform_point3(o), m.transform_vector3(d).normalize());
+        let (origin, direction) = to_render((origin, direction));
+        let (rx, ry) = (to_render(rx), to_render(ry));
+        Some(CameraRay {
+            ray: Ray::new(origin, direction, time),
+            weight: 1.0,
+            differentials: Some(RayDifferentials {
+                rx_origin: rx.0,
+                rx_direction: rx.1,
+                ry_origin: ry.0,
+                ry_direction: ry.1,
+            }),
+        })
     }
 }
 
@@ -165,5 +203,57 @@ mod tests {
             )
             .unwrap();
         assert!(right.ray.direction.x < 0.0, "{:?}", right.ray.direction);
+    }
+
+    #[test]
+    fn approximate_differentials_use_the_smallest_ones_on_the_film() {
+        // 200×100, fov 90 across y: the screen spans x ∈ [−2, 2], y ∈ [−1, 1],
+        // 0.02 per pixel. Direction differentials are smallest at the
+        // corners, direction (2, 1, 1).
+        let c = camera(
+            "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 90\nWorldBegin",
+        );
+        let corner = Vec3::new(2.0, 1.0, 1.0);
+        let step = |d: Vec3| ((corner + d).normalize() - corner.normalize()).length();
+        let (ex, ey) = (step(Vec3::X * 0.02), step(Vec3::Y * 0.02));
+        // A wall facing the camera 10 units away; 4 spp halves the offsets.
+        let p = Vec3::new(0.0, 0.0, -10.0);
+        for (spp, scale) in [(1, 1.0), (4, 0.5)] {
+            let (dpdx, dpdy) = c.approximate_dp_dxy(p, Vec3::Z, spp);
+            assert!(dpdx.z.abs() < 1e-4 && dpdy.z.abs() < 1e-4, "{dpdx} {dpdy}");
+            let (lx, ly) = (dpdx.length(), dpdy.length());
+            assert!(
+                (lx / (10.0 * ex * scale) - 1.0).abs() < 0.01,
+                "{lx} vs {}",
+                10.0 * ex
+            );
+            assert!(
+                (ly / (10.0 * ey * scale) - 1.0).abs() < 0.01,
+                "{ly} vs {}",
+                10.0 * ey
+            );
+        }
+    }
+
+    #[test]
+    fn camera_ray_differentials_reach_one_pixel_over_at_the_first_hit() {
+        // 0.02 screen units per pixel at unit distance: 0.2 at distance 10
+        // in the middle of the image, narrowed to 1/√spp of it.
+        let c = camera(
+            "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 90\nWorldBegin",
+        );
+        let sample = CameraSample {
+            p_film: Vec2::new(100.0, 50.0),
+            ..Default::default()
+        };
+        let lambda = crate::spectrum::SampledWavelengths::sample_visible(0.5);
+        let ray = c.generate_ray(&sample, &lambda).unwrap();
+        let p = ray.ray.origin + ray.ray.direction * 10.0;
+        for (spp, scale) in [(1, 1.0), (16, 0.25), (1024, 0.125)] {
+            let (dpdx, dpdy) = c.first_hit_dp_dxy(&ray, p, Vec3::Z, spp);
+            assert!((dpdx.length() - 0.2 * scale).abs() < 1e-3 * scale, "{dpdx}");
+            assert!((dpdy.length() - 0.2 * scale).abs() < 1e-3 * scale, "{dpdy}");
+            assert!(dpdx.dot(dpdy).abs() < 1e-6 && dpdx.z.abs() < 1e-6);
+        }
     }
 }

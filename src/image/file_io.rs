@@ -84,9 +84,7 @@ impl Image {
 
     /// Reads an OpenEXR file and where its pixels lie in the full image
     /// (its data window in its display window).
-    pub fn read_exr_with_window(
-        path: impl AsRef<Path>,
-    ) -> Result<(Image, DataWindow), ImageError> {
+    pub fn read_exr_with_window(path: impl AsRef<Path>) -> Result<(Image, DataWindow), ImageError> {
         exr_file::read_exr_with_window(path.as_ref())
     }
 
@@ -167,7 +165,8 @@ mod tests {
             full_resolution: (10, 8),
             origin: (4, 5),
         };
-        tile.write_exr_in_window(&path, false, Some(&window)).unwrap();
+        tile.write_exr_in_window(&path, false, Some(&window))
+            .unwrap();
         let (read, read_window) = Image::read_exr_with_window(&path).unwrap();
         assert_eq!(read, tile);
         assert_eq!(read_window, window);

@@ -4,13 +4,14 @@
 //! second bounce.
 
 use crate::bxdfs::{BxDFReflTransFlags, TransportMode, BSDF};
+use crate::cameras::CameraRay;
 use crate::interaction::SurfaceInteraction;
 use crate::lights::{Light, LightKind, LightSampleContext};
 use crate::math::sampling::power_heuristic;
-use crate::math::Ray;
 use crate::samplers::Sampler;
 use crate::scene::build::BuiltScene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use crate::textures::TextureEvalContext;
 
 fn light_context(si: &SurfaceInteraction) -> LightSampleContext {
     LightSampleContext {
@@ -22,15 +23,20 @@ fn light_context(si: &SurfaceInteraction) -> LightSampleContext {
     }
 }
 
-/// Radiance arriving along `ray` at the path's wavelengths.
+/// Radiance arriving along the camera ray at the path's wavelengths.
 pub fn path_li(
     scene: &BuiltScene,
-    mut ray: Ray,
+    camera_ray: &CameraRay,
     lambda: &mut SampledWavelengths,
     sampler: &mut Sampler,
 ) -> SampledSpectrum {
+    let mut ray = camera_ray.ray;
+    // The camera ray's differentials hold until the first scattering
+    // (through `interface` surfaces too, as the offset rays go straight on).
+    let mut from_camera = true;
     let max_depth = scene.integrator.max_depth;
     let regularize = scene.integrator.regularize;
+    let spp = scene.sampler.samples_per_pixel();
     let mut l = SampledSpectrum::ZERO;
     let mut beta = SampledSpectrum::ONE;
     let mut depth = 0;
@@ -75,13 +81,24 @@ pub fn path_li(
             }
         }
         let material = &scene.materials[prim.material as usize];
-        let Some(mut bsdf) = material.bsdf(&si, lambda) else {
+        let ctx = if scene.integrator.texture_filtering {
+            let (dpdx, dpdy) = if from_camera {
+                scene.camera.first_hit_dp_dxy(camera_ray, si.p, si.n, spp)
+            } else {
+                scene.camera.approximate_dp_dxy(si.p, si.n, spp)
+            };
+            TextureEvalContext::with_differentials(&si, dpdx, dpdy)
+        } else {
+            TextureEvalContext::at(&si)
+        };
+        let Some(mut bsdf) = material.bsdf(&si, &ctx, lambda) else {
             // Interface: continue through the surface without counting a
             // bounce.
             specular_bounce = true;
             ray = si.spawn_ray(ray.direction);
             continue;
         };
+        from_camera = false;
         if regularize && any_non_specular {
             bsdf.regularize();
         }

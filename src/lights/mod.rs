@@ -1,10 +1,12 @@
 //! Lights: emitters sampled for direct lighting and hit by escaping or
 //! surface-bound rays.
 
+pub mod bvh_sampler;
 pub mod create;
 pub mod diffuse_area;
 pub mod distant;
 pub mod image_infinite;
+pub mod light_bounds;
 pub mod point;
 pub mod sampler;
 pub mod spot;

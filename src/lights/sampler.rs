@@ -1,24 +1,59 @@
 //! Choosing which light to sample for direct lighting.
 //!
-//! pbrt-v4's `lightsampler` parameter: `uniform`, `power`, `bvh` (default).
-//! For `bvh`, lights without bounds (distant and infinite) are chosen as
-//! pbrt-v4's BVH sampler chooses them — each with probability
-//! 1 / (their count + 1 if there are bounded lights) — and bounded lights
-//! share the rest by power; the BVH's spatial importance among bounded
-//! lights is not built yet (unbiased either way: only the noise differs
-//! where many lights are spread over the scene).
+//! pbrt-v4's `lightsampler` parameter: `uniform`, `power`, `bvh` (default,
+//! [`BvhLightSampler`]: importance at the shading point through a BVH over
+//! the lights' bounds).
 
+use super::bvh_sampler::BvhLightSampler;
 use super::{Light, LightSampleContext};
 use crate::shapes::ShapeStorage;
 use crate::spectrum::SampledWavelengths;
 
-pub struct LightSampler {
+/// The light sampler of a scene.
+pub enum LightSampler {
+    /// Fixed probabilities (`uniform`, `power`).
+    Table(TableLightSampler),
+    Bvh(BvhLightSampler),
+}
+
+impl LightSampler {
+    pub fn uniform(count: usize) -> Self {
+        LightSampler::Table(TableLightSampler::uniform(count))
+    }
+
+    pub fn power(lights: &[Light], shapes: &ShapeStorage) -> Self {
+        LightSampler::Table(TableLightSampler::power(lights, shapes))
+    }
+
+    pub fn bvh(lights: &[Light], shapes: &ShapeStorage) -> Self {
+        LightSampler::Bvh(BvhLightSampler::new(lights, shapes))
+    }
+
+    /// A light index and the probability of choosing it at `ctx`.
+    pub fn sample(&self, ctx: &LightSampleContext, u: f32) -> Option<(usize, f32)> {
+        match self {
+            LightSampler::Table(t) => t.sample(u),
+            LightSampler::Bvh(b) => b.sample(ctx, u),
+        }
+    }
+
+    /// The probability that `sample` chooses `light` at `ctx`.
+    pub fn pmf(&self, ctx: &LightSampleContext, light: usize) -> f32 {
+        match self {
+            LightSampler::Table(t) => t.pmf(light),
+            LightSampler::Bvh(b) => b.pmf(ctx, light),
+        }
+    }
+}
+
+/// Lights chosen with fixed probabilities, wherever the shading point is.
+pub struct TableLightSampler {
     /// Cumulative probabilities (last = 1).
     cdf: Vec<f32>,
     pmf: Vec<f32>,
 }
 
-impl LightSampler {
+impl TableLightSampler {
     pub fn uniform(count: usize) -> Self {
         Self::from_weights(&vec![1.0; count])
     }
@@ -47,44 +82,6 @@ impl LightSampler {
         }
     }
 
-    /// pbrt-v4's BVH light sampler's treatment of unbounded lights, with
-    /// bounded lights by power.
-    pub fn bvh(lights: &[Light], shapes: &ShapeStorage) -> Self {
-        let unbounded = |l: &Light| {
-            matches!(
-                l.kind(),
-                super::LightKind::Infinite | super::LightKind::DeltaDirection
-            )
-        };
-        let n_unbounded = lights.iter().filter(|l| unbounded(l)).count();
-        let n_bounded = lights.len() - n_unbounded;
-        if n_unbounded == 0 {
-            return Self::power(lights, shapes);
-        }
-        let p_unbounded = n_unbounded as f32 / (n_unbounded + usize::from(n_bounded > 0)) as f32;
-        let power = Self::power(lights, shapes);
-        let bounded_total: f32 = lights
-            .iter()
-            .zip(&power.pmf)
-            .filter(|(l, _)| !unbounded(l))
-            .map(|(_, p)| p)
-            .sum();
-        let weights: Vec<f32> = lights
-            .iter()
-            .zip(&power.pmf)
-            .map(|(l, &p)| {
-                if unbounded(l) {
-                    p_unbounded / n_unbounded as f32
-                } else if bounded_total > 0.0 {
-                    (1.0 - p_unbounded) * p / bounded_total
-                } else {
-                    (1.0 - p_unbounded) / n_bounded as f32
-                }
-            })
-            .collect();
-        Self::from_weights(&weights)
-    }
-
     fn from_weights(weights: &[f32]) -> Self {
         let total: f64 = weights.iter().map(|&w| w as f64).sum();
         let pmf: Vec<f32> = weights
@@ -106,11 +103,11 @@ impl LightSampler {
         if let Some(last) = cdf.last_mut() {
             *last = 1.0;
         }
-        LightSampler { cdf, pmf }
+        TableLightSampler { cdf, pmf }
     }
 
     /// A light index and its probability.
-    pub fn sample(&self, _ctx: &LightSampleContext, u: f32) -> Option<(usize, f32)> {
+    pub fn sample(&self, u: f32) -> Option<(usize, f32)> {
         if self.cdf.is_empty() {
             return None;
         }
@@ -122,7 +119,7 @@ impl LightSampler {
         (p > 0.0).then_some((i, p))
     }
 
-    pub fn pmf(&self, _ctx: &LightSampleContext, light: usize) -> f32 {
+    pub fn pmf(&self, light: usize) -> f32 {
         self.pmf.get(light).copied().unwrap_or(0.0)
     }
 }

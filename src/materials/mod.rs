@@ -9,8 +9,10 @@
 //! | `coateddiffuse` | `reflectance` 0.5, `roughness` 0, `thickness` 0.01, `eta` 1.5, `albedo` 0, `g` 0, `maxdepth` 10, `nsamples` 1, `remaproughness` true |
 //! | `diffusetransmission` | `reflectance` 0.25, `transmittance` 0.25, `scale` 1 |
 //! | `hair` | `sigma_a`, or `reflectance` (alias `color`), or `eumelanin`/`pheomelanin` (default eumelanin 1.3 when none is given); `eta` 1.55, `beta_m` 0.3, `beta_n` 0.3 (both clamped to [0.01, 1]), `alpha` 2° |
+//! | `hair` (dual model) | `ellipse_a`, `ellipse_b`, `d_diff`, `ellipse_orientation`, `diffraction`, `variant`, `internal_fresnel`: see [`dual_hair`] |
 //! | `interface` | none: marks a boundary between media; rays pass through |
 
+use crate::bxdfs::dual_hair::{DualHairBxDF, DualHairParams};
 use crate::bxdfs::hair::HairBxDF;
 use crate::bxdfs::{
     BxDF, CoatedDiffuseBxDF, ConductorBxDF, DielectricBxDF, DiffuseBxDF, DiffuseTransmissionBxDF,
@@ -26,6 +28,8 @@ use crate::textures::{
     FloatTexture, NamedTextures, SpectrumTexture, TextureEvalContext, TextureParams,
 };
 use std::path::Path;
+
+pub mod dual_hair;
 
 /// Roughness given as (u, v) textures, remapped to α or not.
 #[derive(Clone, Debug)]
@@ -98,6 +102,9 @@ pub enum Material {
         beta_m: FloatTexture,
         beta_n: FloatTexture,
         alpha: FloatTexture,
+        /// The dual model's parameters and ellipse orientation (radians);
+        /// `None` is pbrt-v4's hair.
+        dual: Option<(DualHairParams, f32)>,
     },
     CoatedDiffuse {
         reflectance: SpectrumTexture,
@@ -159,6 +166,18 @@ fn eta_param(tp: &TextureParams, name: &str) -> Result<Eta> {
 }
 
 impl Material {
+    /// How much wider than written this material's curves are: 1 + d_diff
+    /// for the dual hair model's diffracting outer cylinder, else 1.
+    pub fn curve_width_scale(&self) -> f32 {
+        match self {
+            Material::Hair {
+                dual: Some((params, _)),
+                ..
+            } => 1.0 + params.d_diff,
+            _ => 1.0,
+        }
+    }
+
     pub fn create(
         entity: &Entity,
         textures: &NamedTextures,
@@ -270,6 +289,7 @@ impl Material {
                     beta_m: tp.float_texture("beta_m", 0.3)?,
                     beta_n: tp.float_texture("beta_n", 0.3)?,
                     alpha: tp.float_texture("alpha", 2.0)?,
+                    dual: dual_hair::read(p)?,
                 }
             }
             other => return scene_error(format!("material \"{other}\" is not supported yet"), loc),
@@ -278,23 +298,29 @@ impl Material {
         Ok(m)
     }
 
-    /// The BSDF at `si`; `None` for `interface` (the ray continues).
-    /// Dispersive materials terminate the secondary wavelengths.
-    pub fn bsdf(&self, si: &SurfaceInteraction, lambda: &mut SampledWavelengths) -> Option<BSDF> {
-        let ctx = TextureEvalContext { uv: si.uv };
+    /// The BSDF at `si`, its textures evaluated in `ctx` (which carries
+    /// the hit's screen-space differentials); `None` for `interface` (the
+    /// ray continues). Dispersive materials terminate the secondary
+    /// wavelengths.
+    pub fn bsdf(
+        &self,
+        si: &SurfaceInteraction,
+        ctx: &TextureEvalContext,
+        lambda: &mut SampledWavelengths,
+    ) -> Option<BSDF> {
         let clamp01 = |s: SampledSpectrum| s.map(|v| v.clamp(0.0, 1.0));
         let bxdf = match self {
             Material::Interface => return None,
-            Material::Diffuse { reflectance } => BxDF::Diffuse(DiffuseBxDF::new(clamp01(
-                reflectance.evaluate(&ctx, lambda),
-            ))),
+            Material::Diffuse { reflectance } => {
+                BxDF::Diffuse(DiffuseBxDF::new(clamp01(reflectance.evaluate(ctx, lambda))))
+            }
             Material::DiffuseTransmission {
                 reflectance,
                 transmittance,
                 scale,
             } => BxDF::DiffuseTransmission(DiffuseTransmissionBxDF::new(
-                clamp01(reflectance.evaluate(&ctx, lambda) * *scale),
-                clamp01(transmittance.evaluate(&ctx, lambda) * *scale),
+                clamp01(reflectance.evaluate(ctx, lambda) * *scale),
+                clamp01(transmittance.evaluate(ctx, lambda) * *scale),
             )),
             Material::Conductor {
                 eta,
@@ -302,23 +328,23 @@ impl Material {
                 reflectance,
                 roughness,
             } => {
-                let distrib = roughness.distribution(&ctx);
+                let distrib = roughness.distribution(ctx);
                 let (etas, ks) = match reflectance {
                     // pbrt-v4: a reflectance r gives η = 1, k = 2√r / √(1 − r).
                     Some(r) => {
-                        let r = r.evaluate(&ctx, lambda).map(|v| v.clamp(0.0, 0.9999));
+                        let r = r.evaluate(ctx, lambda).map(|v| v.clamp(0.0, 0.9999));
                         (
                             SampledSpectrum::ONE,
                             (r.sqrt() * 2.0) / (SampledSpectrum::ONE - r).sqrt(),
                         )
                     }
-                    None => (eta.evaluate(&ctx, lambda), k.evaluate(&ctx, lambda)),
+                    None => (eta.evaluate(ctx, lambda), k.evaluate(ctx, lambda)),
                 };
                 BxDF::Conductor(ConductorBxDF::new(distrib, etas, ks))
             }
             Material::Dielectric { eta, roughness } => {
                 let e = eval_eta(eta, lambda);
-                BxDF::Dielectric(DielectricBxDF::new(e, roughness.distribution(&ctx)))
+                BxDF::Dielectric(DielectricBxDF::new(e, roughness.distribution(ctx)))
             }
             Material::ThinDielectric { eta } => {
                 BxDF::ThinDielectric(ThinDielectricBxDF::new(eval_eta(eta, lambda)))
@@ -332,22 +358,20 @@ impl Material {
                 beta_m,
                 beta_n,
                 alpha,
+                dual,
             } => {
-                let bm = beta_m.evaluate(&ctx).clamp(0.01, 1.0);
-                let bn = beta_n.evaluate(&ctx).clamp(0.01, 1.0);
+                let bm = beta_m.evaluate(ctx).clamp(0.01, 1.0);
+                let bn = beta_n.evaluate(ctx).clamp(0.01, 1.0);
                 // Precedence as pbrt-v4: σa, then reflectance, then melanin.
                 let sig_a = if let Some(s) = sigma_a {
-                    s.evaluate(&ctx, lambda).clamp_zero()
+                    s.evaluate(ctx, lambda).clamp_zero()
                 } else if let Some(r) = reflectance {
-                    HairBxDF::sigma_a_from_reflectance(clamp01(r.evaluate(&ctx, lambda)), bn)
+                    HairBxDF::sigma_a_from_reflectance(clamp01(r.evaluate(ctx, lambda)), bn)
                 } else {
-                    let ce = eumelanin
-                        .as_ref()
-                        .map_or(0.0, |t| t.evaluate(&ctx))
-                        .max(0.0);
+                    let ce = eumelanin.as_ref().map_or(0.0, |t| t.evaluate(ctx)).max(0.0);
                     let cp = pheomelanin
                         .as_ref()
-                        .map_or(0.0, |t| t.evaluate(&ctx))
+                        .map_or(0.0, |t| t.evaluate(ctx))
                         .max(0.0);
                     let rgb = HairBxDF::sigma_a_from_concentration(ce, cp);
                     crate::spectrum::color_space::get(ColorSpaceName::Srgb)
@@ -355,14 +379,28 @@ impl Material {
                         .sample(lambda)
                 };
                 let h = -1.0 + 2.0 * si.uv.y;
-                BxDF::Hair(HairBxDF::new(
-                    h,
-                    eta.evaluate(&ctx),
-                    sig_a,
-                    bm,
-                    bn,
-                    alpha.evaluate(&ctx),
-                ))
+                let base = HairBxDF::new(h, eta.evaluate(ctx), sig_a, bm, bn, alpha.evaluate(ctx));
+                match dual {
+                    None => BxDF::Hair(base),
+                    Some((params, orientation)) => {
+                        // The major axis from the strand's stable reference
+                        // (the shading normal where a shape has none), in
+                        // the local frame's azimuth φ = atan2(z, y).
+                        let probe = BSDF::new(si.shading.n, si.shading.dpdu, BxDF::Hair(base));
+                        let r = probe.render_to_local(si.fiber_reference);
+                        let reference = if r.y == 0.0 && r.z == 0.0 {
+                            std::f32::consts::FRAC_PI_2
+                        } else {
+                            r.z.atan2(r.y)
+                        };
+                        BxDF::DualHair(DualHairBxDF::new(
+                            base,
+                            *params,
+                            reference + orientation,
+                            lambda.lambda,
+                        ))
+                    }
+                }
             }
             Material::CoatedDiffuse {
                 reflectance,
@@ -376,11 +414,11 @@ impl Material {
             } => {
                 let e = eval_eta(eta, lambda);
                 BxDF::CoatedDiffuse(CoatedDiffuseBxDF::new(
-                    DielectricBxDF::new(e, roughness.distribution(&ctx)),
-                    DiffuseBxDF::new(clamp01(reflectance.evaluate(&ctx, lambda))),
-                    thickness.evaluate(&ctx).max(f32::MIN_POSITIVE),
-                    clamp01(albedo.evaluate(&ctx, lambda)),
-                    g.evaluate(&ctx),
+                    DielectricBxDF::new(e, roughness.distribution(ctx)),
+                    DiffuseBxDF::new(clamp01(reflectance.evaluate(ctx, lambda))),
+                    thickness.evaluate(ctx).max(f32::MIN_POSITIVE),
+                    clamp01(albedo.evaluate(ctx, lambda)),
+                    g.evaluate(ctx),
                     *max_depth,
                     *n_samples,
                 ))

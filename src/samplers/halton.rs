@@ -136,20 +136,12 @@ impl HaltonSampler {
     }
 
     pub fn get_1d(&mut self) -> f32 {
-        if self.dimension >= PRIME_TABLE_SIZE {
-            self.dimension = 2;
-        }
-        let dimension = self.dimension;
-        self.dimension += 1;
+        let dimension = super::take_dimensions(&mut self.dimension, 1, PRIME_TABLE_SIZE);
         self.sample_dimension(dimension)
     }
 
     pub fn get_2d(&mut self) -> Vec2 {
-        if self.dimension + 1 >= PRIME_TABLE_SIZE {
-            self.dimension = 2;
-        }
-        let dimension = self.dimension;
-        self.dimension += 2;
+        let dimension = super::take_dimensions(&mut self.dimension, 2, PRIME_TABLE_SIZE);
         Vec2::new(
             self.sample_dimension(dimension),
             self.sample_dimension(dimension + 1),

@@ -41,7 +41,7 @@ mod bits;
 mod digit_permutation;
 pub mod distribution;
 mod halton;
-mod hash;
+pub mod hash;
 mod independent;
 mod padded_sobol;
 mod permutation;
@@ -276,3 +276,15 @@ fn nearly_square_factors(n: u32) -> (u32, u32) {
 
 #[cfg(test)]
 mod tests;
+
+/// Takes the next `count` sample dimensions of a sampler with a table of
+/// `table_size` dimensions (Halton, Sobol): the first one taken; past the
+/// table's end it starts again at 2 (0 and 1 are the pixel's), as pbrt-v4.
+pub(crate) fn take_dimensions(dimension: &mut usize, count: usize, table_size: usize) -> usize {
+    if *dimension + count > table_size {
+        *dimension = 2;
+    }
+    let first = *dimension;
+    *dimension += count;
+    first
+}

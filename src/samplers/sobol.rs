@@ -79,20 +79,12 @@ impl SobolSampler {
     }
 
     pub fn get_1d(&mut self) -> f32 {
-        if self.dimension >= SOBOL_DIMENSIONS {
-            self.dimension = 2;
-        }
-        let dimension = self.dimension;
-        self.dimension += 1;
+        let dimension = super::take_dimensions(&mut self.dimension, 1, SOBOL_DIMENSIONS);
         self.sample_dimension(dimension)
     }
 
     pub fn get_2d(&mut self) -> Vec2 {
-        if self.dimension + 1 >= SOBOL_DIMENSIONS {
-            self.dimension = 2;
-        }
-        let dimension = self.dimension;
-        self.dimension += 2;
+        let dimension = super::take_dimensions(&mut self.dimension, 2, SOBOL_DIMENSIONS);
         Vec2::new(
             self.sample_dimension(dimension),
             self.sample_dimension(dimension + 1),

@@ -2,7 +2,9 @@
 //! BVH, lights and the light sampler, camera, film, sampler, filter.
 //! The built scene is immutable and shared by all render threads.
 
+use super::alpha::{self, Alpha};
 use super::description::{MaterialRef, SceneDescription, TextureValue};
+use crate::accel::instance::{build_levels, InstanceAccel};
 use crate::accel::Bvh;
 use crate::cameras::Camera;
 use crate::error::{scene_error, Result};
@@ -15,7 +17,7 @@ use crate::math::{offset_ray_origin, Bounds3, Ray};
 use crate::samplers::Sampler;
 use crate::shapes::{create_shapes, Shape, ShapeStorage};
 use crate::spectrum::color_space::SpectrumKind;
-use crate::textures::{create_texture, NamedTextures};
+use crate::textures::{create_texture, FloatTexture, NamedTextures, SpectrumTexture};
 use glam::{IVec2, Vec3};
 use pbrt_parser::Warning;
 use std::collections::HashMap;
@@ -46,6 +48,10 @@ pub struct IntegratorSettings {
     pub kind: IntegratorKind,
     pub max_depth: i32,
     pub regularize: bool,
+    /// Whether textures are looked up with screen-space differentials:
+    /// false under `Option "disabletexturefiltering" true`, and when no
+    /// texture of the scene varies (nothing to filter).
+    pub texture_filtering: bool,
 }
 
 /// A shape with its material and emission.
@@ -56,6 +62,8 @@ pub struct Primitive {
     pub material: u32,
     /// Index into [`BuiltScene::lights`] of its area light.
     pub area_light: Option<u32>,
+    /// Index into [`BuiltScene::alpha_textures`] of its cutout, if any.
+    pub alpha: Option<u32>,
 }
 
 pub struct BuiltScene {
@@ -67,27 +75,53 @@ pub struct BuiltScene {
     pub shapes: ShapeStorage,
     /// In BVH order.
     pub primitives: Vec<Primitive>,
+    /// Over the top-level primitives.
     pub bvh: Bvh,
+    /// Object instances (their primitives follow the top level's in
+    /// `primitives`).
+    pub instances: InstanceAccel,
     pub materials: Vec<Material>,
     pub lights: Vec<Light>,
     pub infinite_lights: Vec<usize>,
     pub light_sampler: LightSampler,
+    /// Alpha cutout textures of the primitives that have one.
+    pub alpha_textures: Vec<FloatTexture>,
     pub warnings: Vec<Warning>,
 }
 
 impl BuiltScene {
-    /// The closest surface hit by `ray` before `t_max`. Curve hits are
-    /// kept light until the closest one is known (building a curve's
-    /// interaction costs more than finding it).
+    /// The closest surface hit by `ray` before `t_max`: the top level's,
+    /// then the instances' (nearer than it).
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<(SurfaceInteraction, &Primitive)> {
+        let mut found = self.intersect_bvh(&self.bvh, ray, t_max);
+        let t_max = found.as_ref().map_or(t_max, |si| si.t);
+        if let Some(si) = self.instances.intersect(ray, t_max, |bvh, ray, t_max| {
+            self.intersect_bvh(bvh, ray, t_max)
+        }) {
+            found = Some(si);
+        }
+        let si = found?;
+        Some((si, &self.primitives[si.primitive as usize]))
+    }
+
+    /// The closest hit among the primitives of one BVH (the top level's or
+    /// an object's, in its own space), with `primitive` and `t` set. Curve
+    /// hits are kept light until the closest one is known (building a
+    /// curve's interaction costs more than finding it).
+    fn intersect_bvh(&self, bvh: &Bvh, ray: &Ray, t_max: f32) -> Option<SurfaceInteraction> {
         enum Best {
             Full(SurfaceInteraction, usize),
             Curve(crate::shapes::curve::CurveHit, u32, usize),
         }
         let frame = crate::shapes::curve::RayFrame::new(ray)?;
         let mut best = None;
-        self.bvh.closest_hit(ray, t_max, |i, t_max| {
+        bvh.closest_hit(ray, t_max, |i, t_max| {
             let prim = &self.primitives[i];
+            if let Some(alpha) = prim.alpha {
+                let (si, t) = self.intersect_cut_out(prim, alpha, ray, t_max)?;
+                best = Some(Best::Full(si, i));
+                return Some(t);
+            }
             if let Shape::Curve(c) = prim.shape {
                 let (piece, segment) = self.shapes.curve(c);
                 let hit = piece.intersect_in(segment, &frame, t_max)?;
@@ -104,16 +138,64 @@ impl BuiltScene {
             Best::Curve(hit, c, i) => (hit.interaction(self.shapes.curve(c).1, ray), i),
         };
         si.primitive = i as u32;
-        Some((si, &self.primitives[i]))
+        Some(si)
     }
 
     /// Whether anything lies on `ray` before `t_max`.
     pub fn intersect_p(&self, ray: &Ray, t_max: f32) -> bool {
-        self.bvh.any_hit(ray, t_max, |i, t_max| {
-            self.primitives[i]
-                .shape
-                .intersect_p(&self.shapes, ray, t_max)
+        self.intersect_p_bvh(&self.bvh, ray, t_max)
+            || self.instances.intersect_p(ray, t_max, |bvh, ray, t_max| {
+                self.intersect_p_bvh(bvh, ray, t_max)
+            })
+    }
+
+    /// Whether any primitive of one BVH lies on `ray` before `t_max`.
+    fn intersect_p_bvh(&self, bvh: &Bvh, ray: &Ray, t_max: f32) -> bool {
+        bvh.any_hit(ray, t_max, |i, t_max| {
+            let prim = &self.primitives[i];
+            match prim.alpha {
+                Some(alpha) => self.intersect_cut_out(prim, alpha, ray, t_max).is_some(),
+                None => prim.shape.intersect_p(&self.shapes, ray, t_max),
+            }
         })
+    }
+
+    /// The closest hit of a primitive with an alpha cutout (and its t along
+    /// `ray`): a cut-out hit is skipped and the ray continues from it
+    /// through the same primitive, as pbrt-v4's `GeometricPrimitive` does.
+    fn intersect_cut_out(
+        &self,
+        prim: &Primitive,
+        alpha: u32,
+        ray: &Ray,
+        t_max: f32,
+    ) -> Option<(SurfaceInteraction, f32)> {
+        let alpha = &self.alpha_textures[alpha as usize];
+        let (mut ray, mut t_max, mut t_before) = (*ray, t_max, 0.0);
+        // A shape is crossed a few times at most (a closed quadric twice);
+        // the bound only guards against a ray stuck at one point.
+        for _ in 0..16 {
+            let (mut si, t) = match prim.shape {
+                Shape::Curve(c) => {
+                    let (piece, segment) = self.shapes.curve(c);
+                    let frame = crate::shapes::curve::RayFrame::new(&ray)?;
+                    let hit = piece.intersect_in(segment, &frame, t_max)?;
+                    (hit.interaction(segment, &ray), hit.t)
+                }
+                _ => {
+                    let hit = prim.shape.intersect(&self.shapes, &ray, t_max)?;
+                    (hit.interaction, hit.t_hit)
+                }
+            };
+            if !alpha::cut_out(alpha, &si, &ray) {
+                si.t = t_before + t;
+                return Some((si, t_before + t));
+            }
+            t_before += t;
+            t_max -= t;
+            ray = si.spawn_ray(ray.direction);
+        }
+        None
     }
 
     /// Whether the segment between a surface point and a light point is
@@ -146,9 +228,6 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
             "participating media are not supported yet",
             &m.entity.location.0,
         );
-    }
-    if let Some(i) = scene.instances.first() {
-        return scene_error("object instancing is not supported yet", &i.location.0);
     }
     if scene.camera.camera_from_world.is_animated() {
         return scene_error(
@@ -185,34 +264,50 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
     };
     let sampler = Sampler::create(&scene.sampler, seed, film.full_resolution, spp)?;
     let filter = Filter::create(&scene.filter)?;
-    let integrator = integrator_settings(scene)?;
+    let mut integrator = integrator_settings(scene)?;
 
-    // Textures, in file order.
+    // Textures, in file order (images shared through the cache).
     let mut textures = NamedTextures::default();
     for t in &scene.textures {
-        match t.value {
-            TextureValue::Float => {
-                if let Some((Some(f), _)) =
-                    create_texture(&t.entity, t.value, &textures, base, SpectrumKind::Albedo)?
-                {
+        let render_from_texture = render_from_world.then(&t.world_from_texture).to_mat4();
+        let kinds: &[(u8, SpectrumKind)] = match t.value {
+            TextureValue::Float => &[(0, SpectrumKind::Albedo)],
+            TextureValue::Spectrum => &[
+                (0, SpectrumKind::Albedo),
+                (1, SpectrumKind::Unbounded),
+                (2, SpectrumKind::Illuminant),
+            ],
+        };
+        for &(key, kind) in kinds {
+            let created = create_texture(
+                &t.entity,
+                t.value,
+                &mut textures,
+                render_from_texture,
+                base,
+                kind,
+            )?;
+            match created {
+                Some((Some(f), _)) => {
                     textures.float.insert(t.name.clone(), f);
                 }
-            }
-            TextureValue::Spectrum => {
-                for (key, kind) in [
-                    (0u8, SpectrumKind::Albedo),
-                    (1, SpectrumKind::Unbounded),
-                    (2, SpectrumKind::Illuminant),
-                ] {
-                    if let Some((_, Some(s))) =
-                        create_texture(&t.entity, t.value, &textures, base, kind)?
-                    {
-                        textures.spectrum.insert((t.name.clone(), key), s);
-                    }
+                Some((_, Some(s))) => {
+                    textures.spectrum.insert((t.name.clone(), key), s);
                 }
+                _ => {}
             }
         }
     }
+
+    // Differentials are only worth computing when some texture varies.
+    integrator.texture_filtering &= textures
+        .float
+        .values()
+        .any(|t| !matches!(t, FloatTexture::Constant(_)))
+        || textures
+            .spectrum
+            .values()
+            .any(|t| !matches!(t, SpectrumTexture::Constant(_)));
 
     // Materials: anonymous ones by index, then named ones.
     let mut materials = Vec::new();
@@ -229,8 +324,23 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
     let mut shapes = ShapeStorage::default();
     let mut primitives = Vec::new();
     let mut lights: Vec<Light> = Vec::new();
-    for shape in &scene.shapes {
+    let mut alpha_textures = Vec::new();
+    let plan = super::instancing::plan(scene, &render_from_world, &mut warnings)?;
+    // Where each group (top level, then each instanced object) ends, kept
+    // current before and after each shape (an invisible one is skipped).
+    let mut group_ends = vec![0; plan.object_count + 1];
+    for placement in &plan.placements {
+        let shape = placement.shape;
+        group_ends[placement.group] = primitives.len();
         let loc = &shape.entity.location.0;
+        let alpha = match Alpha::create(shape, &textures, base)? {
+            Alpha::Invisible => continue,
+            Alpha::Opaque => None,
+            Alpha::Cutout(texture) => {
+                alpha_textures.push(texture);
+                Some(alpha_textures.len() as u32 - 1)
+            }
+        };
         let transform = scene.transform(shape.world_from_object);
         if transform.is_animated() {
             return scene_error("animated shapes (motion blur) are not supported yet", loc);
@@ -238,7 +348,10 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
         if !shape.inside_medium.is_empty() || !shape.outside_medium.is_empty() {
             return scene_error("participating media are not supported yet", loc);
         }
-        let render_from_object = render_from_world.then(&transform.start);
+        let mut render_from_object = render_from_world.then(&transform.start);
+        if let Some(instance) = &placement.render_from_instance {
+            render_from_object = instance.then(&render_from_object);
+        }
         let material = match &shape.material {
             MaterialRef::Anonymous(i) => *i as u32,
             MaterialRef::Named(name) => match named_index.get(name.as_str()) {
@@ -256,6 +369,13 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
             &mut shapes,
             &mut warnings,
         )?;
+        // The dual hair model's diffracting outer cylinder: the curve is
+        // (1 + d_diff) × the fibre's width (issue 5; the BSDF maps the inner
+        // 1/(1 + d_diff) of h to the fibre).
+        let widening = materials[material as usize].curve_width_scale();
+        if widening != 1.0 {
+            shapes.scale_curve_widths(&created, widening);
+        }
         let area = match shape.area_light {
             Some(a) if matches!(materials[material as usize], Material::Interface) => {
                 warnings.push(Warning {
@@ -287,21 +407,32 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
                 shape: created_shape,
                 material,
                 area_light,
+                alpha,
             });
         }
+        group_ends[placement.group] = primitives.len();
     }
     for light in &scene.lights {
         lights.push(lights::create_light(light, &render_from_world, base)?);
     }
 
-    // The BVH, and primitives in its order.
+    // The BVHs (top level, each instanced object), primitives in their
+    // order, and the instances.
     let bounds: Vec<Bounds3> = primitives.iter().map(|p| p.shape.bounds(&shapes)).collect();
-    let (bvh, order) = Bvh::build(&bounds);
+    let object_ranges: Vec<std::ops::Range<usize>> = (1..group_ends.len())
+        .map(|g| group_ends[g - 1]..group_ends[g])
+        .collect();
+    let (bvh, objects, order) = build_levels(&bounds, group_ends[0], &object_ranges);
     let primitives: Vec<Primitive> = order
         .iter()
         .map(|&i| primitives[i as usize].clone())
         .collect();
-    let (center, radius) = bvh.bounds().bounding_sphere();
+    let instances = if plan.instances.is_empty() {
+        InstanceAccel::empty()
+    } else {
+        InstanceAccel::build(objects, &plan.instances)
+    };
+    let (center, radius) = bvh.bounds().union(instances.bounds()).bounding_sphere();
     for l in &mut lights {
         l.preprocess(center, radius);
     }
@@ -336,10 +467,12 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
         shapes,
         primitives,
         bvh,
+        instances,
         materials,
         lights,
         infinite_lights,
         light_sampler,
+        alpha_textures,
         warnings,
     })
 }
@@ -365,5 +498,6 @@ fn integrator_settings(scene: &SceneDescription) -> Result<IntegratorSettings> {
         kind,
         max_depth,
         regularize,
+        texture_filtering: !scene.options.disable_texture_filtering,
     })
 }

@@ -1,9 +1,11 @@
 //! From directives to a scene description: the graphics state, named
 //! things, instancing, and typed parameter lookups.
 
+pub mod alpha;
 pub mod build;
 pub mod builder;
 pub mod description;
+pub mod instancing;
 pub mod params;
 pub mod schema;
 pub mod spectrum_param;

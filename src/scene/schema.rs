@@ -87,9 +87,12 @@ const FILM: &[Slot] = &[
     ("sensor", S),
     ("maxcomponentvalue", F),
 ];
-const SAMPLER: &[Slot] = &[("pixelsamples", I), ("seed", I), ("randomization", S)];
+/// Read by the low-discrepancy samplers (halton, sobol, paddedsobol, zsobol).
+const LOW_DISCREPANCY: &[Slot] = &[("pixelsamples", I), ("seed", I), ("randomization", S)];
 const FILTER: &[Slot] = &[("xradius", F), ("yradius", F)];
-const INTEGRATOR: &[Slot] = &[("maxdepth", I), ("regularize", B), ("lightsampler", S)];
+const MAX_DEPTH: &[Slot] = &[("maxdepth", I)];
+/// Read by path and volpath.
+const PATH: &[Slot] = &[("maxdepth", I), ("regularize", B), ("lightsampler", S)];
 const SHAPE: &[Slot] = &[("alpha", FT)];
 const ROUGHNESS: &[Slot] = &[
     ("roughness", FT),
@@ -98,16 +101,25 @@ const ROUGHNESS: &[Slot] = &[
     ("remaproughness", B),
 ];
 const MATERIAL: &[Slot] = &[("type", S), ("displacement", FT), ("normalmap", S)];
-const TEXTURE: &[Slot] = &[
+/// pbrt-v4's `TextureMapping2D::Create` reads `mapping`, then only the
+/// parameters of the mapping it names.
+const UV_MAPPING: &[Slot] = &[
     ("mapping", S),
     ("uscale", F),
     ("vscale", F),
     ("udelta", F),
     ("vdelta", F),
+];
+const PLANAR_MAPPING: &[Slot] = &[
+    ("mapping", S),
     ("v1", V3),
     ("v2", V3),
+    ("udelta", F),
+    ("vdelta", F),
 ];
-const LIGHT: &[Slot] = &[("scale", F), ("power", F)];
+const OTHER_MAPPING: &[Slot] = &[("mapping", S)];
+/// Read by every light.
+const LIGHT: &[Slot] = &[("scale", F)];
 const MEDIUM: &[Slot] = &[
     ("type", S),
     ("sigma_a", SP),
@@ -148,25 +160,37 @@ fn slots(category: Category, kind: &str) -> Option<[&'static [Slot]; 3]> {
         (Film, "rgb") => none,
         (Film, "gbuffer") => &[("coordinatesystem", S)],
         (Film, "spectral") => &[("nbuckets", I), ("lambdamin", F), ("lambdamax", F)],
-        (Sampler, "halton" | "independent" | "paddedsobol" | "pmj02bn" | "sobol" | "zsobol") => {
-            none
-        }
-        (Sampler, "stratified") => &[("xsamples", I), ("ysamples", I), ("jitter", B)],
+        (Sampler, "halton" | "paddedsobol" | "sobol" | "zsobol") => LOW_DISCREPANCY,
+        (Sampler, "independent" | "pmj02bn") => &[("pixelsamples", I), ("seed", I)],
+        (Sampler, "stratified") => &[("xsamples", I), ("ysamples", I), ("jitter", B), ("seed", I)],
         (Filter, "box" | "triangle") => none,
         (Filter, "gaussian") => &[("sigma", F)],
         (Filter, "mitchell") => &[("B", F), ("C", F)],
         (Filter, "sinc") => &[("tau", F)],
-        (Integrator, "path" | "volpath" | "lightpath" | "randomwalk" | "simplevolpath") => none,
-        (Integrator, "simplepath") => &[("samplelights", B), ("samplebsdf", B)],
-        (Integrator, "bdpt") => &[("visualizestrategies", B), ("visualizeweights", B)],
+        (Integrator, "path" | "volpath") => PATH,
+        (Integrator, "lightpath" | "randomwalk" | "simplevolpath") => MAX_DEPTH,
+        (Integrator, "simplepath") => &[("maxdepth", I), ("samplelights", B), ("samplebsdf", B)],
+        (Integrator, "bdpt") => &[
+            ("maxdepth", I),
+            ("regularize", B),
+            ("visualizestrategies", B),
+            ("visualizeweights", B),
+        ],
         (Integrator, "mlt") => &[
+            ("maxdepth", I),
+            ("regularize", B),
             ("bootstrapsamples", I),
             ("chains", I),
             ("mutationsperpixel", I),
             ("largestepprobability", F),
             ("sigma", F),
         ],
-        (Integrator, "sppm") => &[("photonsperiteration", I), ("radius", F), ("seed", I)],
+        (Integrator, "sppm") => &[
+            ("maxdepth", I),
+            ("photonsperiteration", I),
+            ("radius", F),
+            ("seed", I),
+        ],
         (Integrator, "ambientocclusion") => &[("cossample", B), ("maxdistance", F)],
         (Accelerator, "bvh") => &[("maxnodeprims", I), ("splitmethod", S)],
         (Accelerator, "kdtree") => &[
@@ -183,12 +207,19 @@ fn slots(category: Category, kind: &str) -> Option<[&'static [Slot]; 3]> {
             ("innerradius", F),
             ("phimax", F),
         ],
-        (Shape, "trianglemesh" | "bilinearmesh") => &[
+        (Shape, "trianglemesh") => &[
             ("P", P3),
             ("indices", I),
             ("uv", P2),
             ("N", N3),
             ("S", V3),
+            ("faceIndices", I),
+        ],
+        (Shape, "bilinearmesh") => &[
+            ("P", P3),
+            ("indices", I),
+            ("uv", P2),
+            ("N", N3),
             ("faceIndices", I),
         ],
         (Shape, "plymesh") => &[("filename", S), ("displacement", FT), ("edgelength", F)],
@@ -247,6 +278,14 @@ fn slots(category: Category, kind: &str) -> Option<[&'static [Slot]; 3]> {
             ("beta_m", FT),
             ("beta_n", FT),
             ("alpha", FT),
+            // The dual model (src/materials/dual_hair.rs).
+            ("ellipse_a", F),
+            ("ellipse_b", F),
+            ("d_diff", F),
+            ("ellipse_orientation", F),
+            ("diffraction", S),
+            ("variant", S),
+            ("internal_fresnel", S),
         ],
         (Material, "measured") => &[("filename", S)],
         (Material, "mix") => &[("materials", S), ("amount", FT)],
@@ -283,23 +322,19 @@ fn slots(category: Category, kind: &str) -> Option<[&'static [Slot]; 3]> {
             ("scale", F),
             ("wrap", S),
         ],
-        (Texture, "ptex") => &[
-            ("filename", S),
-            ("encoding", S),
-            ("scale", F),
-            ("invert", B),
-        ],
+        (Texture, "ptex") => &[("filename", S), ("encoding", S), ("scale", F)],
         (Texture, "bilerp") => &[("v00", ANY), ("v01", ANY), ("v10", ANY), ("v11", ANY)],
-        (Light, "point") => &[("I", SP), ("from", P3)],
+        (Light, "point") => &[("I", SP), ("from", P3), ("power", F)],
         (Light, "spot") => &[
             ("I", SP),
             ("from", P3),
             ("to", P3),
             ("coneangle", F),
             ("conedeltaangle", F),
+            ("power", F),
         ],
-        (Light, "goniometric") => &[("I", SP), ("filename", S)],
-        (Light, "projection") => &[("I", SP), ("fov", F), ("filename", S)],
+        (Light, "goniometric") => &[("I", SP), ("filename", S), ("power", F)],
+        (Light, "projection") => &[("I", SP), ("fov", F), ("filename", S), ("power", F)],
         (Light, "distant") => &[("L", SP), ("from", P3), ("to", P3), ("illuminance", F)],
         (Light, "infinite") => &[
             ("L", SP),
@@ -307,7 +342,7 @@ fn slots(category: Category, kind: &str) -> Option<[&'static [Slot]; 3]> {
             ("illuminance", F),
             ("portal", P3),
         ],
-        (AreaLight, "diffuse") => &[("L", SP), ("twosided", B), ("filename", S)],
+        (AreaLight, "diffuse") => &[("L", SP), ("twosided", B), ("filename", S), ("power", F)],
         (Medium, "homogeneous") => none,
         (Medium, "uniformgrid") => GRID,
         (Medium, "rgbgrid") => &[
@@ -336,20 +371,19 @@ fn slots(category: Category, kind: &str) -> Option<[&'static [Slot]; 3]> {
         _ => return None,
     };
     let common: [&'static [Slot]; 2] = match category {
-        Camera if kind == "spherical" => [SHUTTER, none],
         Camera if kind == "realistic" => [SHUTTER, none],
         Camera => [SHUTTER, PROJECTIVE],
         Film => [FILM, none],
-        Sampler => [SAMPLER, none],
+        Sampler => [none, none],
         Filter => [FILTER, none],
-        Integrator => [INTEGRATOR, none],
+        Integrator => [none, none],
         Accelerator => [none, none],
         Shape => [SHAPE, none],
         Material => match kind {
             "conductor" | "dielectric" | "coateddiffuse" | "subsurface" => [MATERIAL, ROUGHNESS],
             _ => [MATERIAL, none],
         },
-        Texture => [TEXTURE, none],
+        Texture => [none, none],
         Light | AreaLight => [LIGHT, none],
         Medium => [MEDIUM, none],
     };
@@ -362,7 +396,8 @@ pub fn is_known(category: Category, kind: &str) -> bool {
 }
 
 /// Checks `params` against the type's parameters: an unknown type, a
-/// parameter of the wrong type, or one the type does not have is an error.
+/// parameter of the wrong type, or one the type does not read is an error
+/// (pbrt-v4's "unused parameter", at the parameter's location).
 pub fn check(category: Category, kind: &str, params: &ParamSet, location: &Location) -> Result<()> {
     let Some(groups) = slots(category, kind) else {
         return scene_error(
@@ -373,5 +408,30 @@ pub fn check(category: Category, kind: &str, params: &ParamSet, location: &Locat
     for (name, types) in groups.iter().flat_map(|g| g.iter()) {
         params.find(name, types)?;
     }
+    if category == Category::Texture {
+        for (name, types) in texture_mapping_slots(kind, params)? {
+            params.find(name, types)?;
+        }
+    }
     params.report_unused(|| format!("{} \"{kind}\"", category.name()))
+}
+
+/// The 2D mapping parameters a texture reads: none for textures without a
+/// 2D mapping (a 3D checkerboard, the noise textures), otherwise those of
+/// the mapping named (an unknown mapping name is reported when the
+/// texture is created).
+fn texture_mapping_slots(kind: &str, params: &ParamSet) -> Result<&'static [Slot]> {
+    let two_d = match kind {
+        "imagemap" | "bilerp" | "dots" => true,
+        "checkerboard" => params.int("dimension", 2)? == 2,
+        _ => false,
+    };
+    if !two_d {
+        return Ok(&[]);
+    }
+    Ok(match params.string("mapping", "uv")?.as_str() {
+        "uv" => UV_MAPPING,
+        "planar" => PLANAR_MAPPING,
+        _ => OTHER_MAPPING,
+    })
 }

@@ -18,6 +18,7 @@
 
 pub mod bilinear;
 pub mod curve;
+pub mod curve_frame;
 pub mod cylinder;
 pub mod disk;
 pub mod interval;
@@ -72,6 +73,22 @@ pub struct ShapeStorage {
 }
 
 impl ShapeStorage {
+    /// Multiplies the widths of the curve segments `shapes` belong to by
+    /// `scale` (each segment once).
+    pub fn scale_curve_widths(&mut self, shapes: &[Shape], scale: f32) {
+        let mut last = None;
+        for shape in shapes {
+            if let Shape::Curve(c) = shape {
+                let segment = self.curve_pieces[*c as usize].segment;
+                if last != Some(segment) {
+                    let s = &mut self.curve_segments[segment as usize];
+                    s.width = s.width.map(|w| w * scale);
+                    last = Some(segment);
+                }
+            }
+        }
+    }
+
     pub fn curve(&self, piece: u32) -> (&curve::CurvePiece, &curve::CurveSegment) {
         let p = &self.curve_pieces[piece as usize];
         (p, &self.curve_segments[p.segment as usize])

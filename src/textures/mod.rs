@@ -1,21 +1,94 @@
 //! Textures: values that vary over surfaces. A parameter that takes a
 //! texture may also be given as a constant value.
+//!
+//! `constant` (`value`, default 1) and `scale` (`tex` × `scale`, both
+//! default 1) are here; `checkerboard` and `imagemap` have their own files,
+//! texture mappings theirs.
+
+pub mod checkerboard;
+pub mod image_map;
+pub mod mapping;
 
 use crate::error::{scene_error, Result};
+use crate::interaction::SurfaceInteraction;
 use crate::scene::description::{ColorSpaceName, Entity, TextureValue};
 use crate::scene::spectrum_param::spectrum_param;
 use crate::scene::ParamSet;
 use crate::spectrum::color_space::SpectrumKind;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
-use glam::Vec2;
+use checkerboard::checkerboard_weight;
+use glam::{Mat4, Vec2, Vec3};
+pub use image_map::{ImageCache, ImageTexture};
+pub use mapping::TextureMapping2D;
 use pbrt_parser::ParamType;
 use std::collections::HashMap;
 use std::path::Path;
 
-/// Where a texture is evaluated.
+/// Where a texture is evaluated, and how that point moves from one pixel
+/// to the next (pbrt-v4's `TextureEvalContext`; zero differentials mean
+/// an unfiltered lookup).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct TextureEvalContext {
+    pub p: Vec3,
+    pub dpdx: Vec3,
+    pub dpdy: Vec3,
+    pub n: Vec3,
     pub uv: Vec2,
+    pub dudx: f32,
+    pub dudy: f32,
+    pub dvdx: f32,
+    pub dvdy: f32,
+}
+
+impl TextureEvalContext {
+    /// At a hit, without differentials (as pbrt-v4 evaluates alpha).
+    pub fn at(si: &SurfaceInteraction) -> Self {
+        TextureEvalContext {
+            p: si.p,
+            n: si.n,
+            uv: si.uv,
+            ..Default::default()
+        }
+    }
+
+    /// At a hit whose position changes by `dpdx`, `dpdy` per pixel: the
+    /// (u, v) differentials are the least-squares solution of
+    /// ∂p/∂x = ∂p/∂u ∂u/∂x + ∂p/∂v ∂v/∂x (pbrt-v4's `ComputeDifferentials`),
+    /// clamped to ±10⁸ and zero where not finite.
+    pub fn with_differentials(si: &SurfaceInteraction, dpdx: Vec3, dpdy: Vec3) -> Self {
+        let ata00 = si.dpdu.dot(si.dpdu);
+        let ata01 = si.dpdu.dot(si.dpdv);
+        let ata11 = si.dpdv.dot(si.dpdv);
+        let inv_det = 1.0 / (ata00 * ata11 - ata01 * ata01);
+        let inv_det = if inv_det.is_finite() { inv_det } else { 0.0 };
+        let solve = |d: Vec3| {
+            let (b0, b1) = (si.dpdu.dot(d), si.dpdv.dot(d));
+            let clean = |x: f32| {
+                if x.is_finite() {
+                    x.clamp(-1e8, 1e8)
+                } else {
+                    0.0
+                }
+            };
+            (
+                clean((ata11 * b0 - ata01 * b1) * inv_det),
+                clean((ata00 * b1 - ata01 * b0) * inv_det),
+            )
+        };
+        let (dudx, dvdx) = solve(dpdx);
+        let (dudy, dvdy) = solve(dpdy);
+        TextureEvalContext {
+            p: si.p,
+            dpdx,
+            dpdy,
+            n: si.n,
+            uv: si.uv,
+            dudx,
+            dudy,
+            dvdx,
+            dvdy,
+        }
+    }
 }
 
 /// A float-valued texture.
@@ -24,16 +97,15 @@ pub enum FloatTexture {
     Constant(f32),
     /// `tex × scale`.
     Scale(Box<FloatTexture>, Box<FloatTexture>),
-    /// 2D checkerboard over (u, v) scaled by `uscale`, `vscale`.
     Checkerboard {
         tex1: Box<FloatTexture>,
         tex2: Box<FloatTexture>,
-        scale: Vec2,
-        delta: Vec2,
+        mapping: TextureMapping2D,
     },
+    Image(Box<ImageTexture>),
 }
 
-/// A spectrum-valued texture.
+/// A spectrum-valued texture (made for one spectrum kind).
 #[derive(Clone, Debug)]
 pub enum SpectrumTexture {
     Constant(Spectrum),
@@ -41,14 +113,9 @@ pub enum SpectrumTexture {
     Checkerboard {
         tex1: Box<SpectrumTexture>,
         tex2: Box<SpectrumTexture>,
-        scale: Vec2,
-        delta: Vec2,
+        mapping: TextureMapping2D,
     },
-}
-
-fn checker(ctx: &TextureEvalContext, scale: Vec2, delta: Vec2) -> bool {
-    let st = ctx.uv * scale + delta;
-    ((st.x.floor() as i64 + st.y.floor() as i64) & 1) == 0
+    Image(Box<ImageTexture>, SpectrumKind),
 }
 
 impl FloatTexture {
@@ -59,15 +126,22 @@ impl FloatTexture {
             FloatTexture::Checkerboard {
                 tex1,
                 tex2,
-                scale,
-                delta,
+                mapping,
             } => {
-                if checker(ctx, *scale, *delta) {
-                    tex1.evaluate(ctx)
-                } else {
-                    tex2.evaluate(ctx)
-                }
+                let w = checkerboard_weight(ctx, mapping);
+                let t1 = if w != 1.0 { tex1.evaluate(ctx) } else { 0.0 };
+                let t2 = if w != 0.0 { tex2.evaluate(ctx) } else { 0.0 };
+                (1.0 - w) * t1 + w * t2
             }
+            FloatTexture::Image(image) => image.evaluate_float(ctx),
+        }
+    }
+
+    /// The value, if the texture is a constant.
+    pub fn constant(&self) -> Option<f32> {
+        match self {
+            FloatTexture::Constant(v) => Some(*v),
+            _ => None,
         }
     }
 }
@@ -84,21 +158,28 @@ impl SpectrumTexture {
             SpectrumTexture::Checkerboard {
                 tex1,
                 tex2,
-                scale,
-                delta,
+                mapping,
             } => {
-                if checker(ctx, *scale, *delta) {
+                let w = checkerboard_weight(ctx, mapping);
+                let t1 = if w != 1.0 {
                     tex1.evaluate(ctx, lambda)
                 } else {
+                    SampledSpectrum::ZERO
+                };
+                let t2 = if w != 0.0 {
                     tex2.evaluate(ctx, lambda)
-                }
+                } else {
+                    SampledSpectrum::ZERO
+                };
+                t1 * (1.0 - w) + t2 * w
             }
+            SpectrumTexture::Image(image, kind) => image.evaluate_spectrum(ctx, *kind, lambda),
         }
     }
 }
 
 /// Named textures of the scene, created in file order (a texture may use
-/// those before it).
+/// those before it), and the images they share.
 #[derive(Default)]
 pub struct NamedTextures {
     pub float: HashMap<String, FloatTexture>,
@@ -106,6 +187,7 @@ pub struct NamedTextures {
     pub spectrum: HashMap<(String, SpectrumKindKey), SpectrumTexture>,
     /// The descriptions, to create spectrum textures on demand for a kind.
     pub spectrum_entities: HashMap<String, Entity>,
+    pub images: ImageCache,
 }
 
 /// `SpectrumKind` as a map key.
@@ -199,40 +281,36 @@ impl TextureParams<'_> {
     }
 }
 
-/// Creates a texture from its description.
+/// Creates a texture from its description (`render_from_texture`: the
+/// transform in force at its `Texture` directive).
 pub fn create_texture(
     entity: &Entity,
     value: TextureValue,
-    textures: &NamedTextures,
+    textures: &mut NamedTextures,
+    render_from_texture: Mat4,
     base_directory: &Path,
     kind: SpectrumKind,
 ) -> Result<Option<(Option<FloatTexture>, Option<SpectrumTexture>)>> {
+    let loc = &entity.location.0;
+    if entity.kind == "imagemap" {
+        let image = Box::new(ImageTexture::create(
+            &entity.params,
+            render_from_texture,
+            base_directory,
+            &mut textures.images,
+            loc,
+        )?);
+        return Ok(Some(match value {
+            TextureValue::Float => (Some(FloatTexture::Image(image)), None),
+            TextureValue::Spectrum => (None, Some(SpectrumTexture::Image(image, kind))),
+        }));
+    }
     let tp = TextureParams {
         params: &entity.params,
         color_space: entity.color_space,
         textures,
         base_directory,
     };
-    let loc = &entity.location.0;
-    let uv_scale = |p: &ParamSet| -> Result<(Vec2, Vec2)> {
-        Ok((
-            Vec2::new(
-                p.float("uscale", 1.0)? as f32,
-                p.float("vscale", 1.0)? as f32,
-            ),
-            Vec2::new(
-                p.float("udelta", 0.0)? as f32,
-                p.float("vdelta", 0.0)? as f32,
-            ),
-        ))
-    };
-    let mapping = entity.params.string("mapping", "uv")?;
-    if mapping != "uv" {
-        return scene_error(
-            format!("texture mapping \"{mapping}\" is not supported yet (supported: uv)"),
-            loc,
-        );
-    }
     let result = match (entity.kind.as_str(), value) {
         ("constant", TextureValue::Float) => (Some(tp.float_texture("value", 1.0)?), None),
         ("constant", TextureValue::Spectrum) => (None, tp.spectrum_texture("value", Some(Spectrum::Constant(1.0)), kind)?),
@@ -249,14 +327,13 @@ pub fn create_texture(
             if dimension != 2 {
                 return scene_error("3D checkerboard textures are not supported yet", loc);
             }
-            let (scale, delta) = uv_scale(&entity.params)?;
+            let mapping = TextureMapping2D::create(&entity.params, render_from_texture, loc)?;
             match v {
                 TextureValue::Float => (
                     Some(FloatTexture::Checkerboard {
                         tex1: Box::new(tp.float_texture("tex1", 1.0)?),
                         tex2: Box::new(tp.float_texture("tex2", 0.0)?),
-                        scale,
-                        delta,
+                        mapping,
                     }),
                     None,
                 ),
@@ -268,16 +345,42 @@ pub fn create_texture(
                         Some(SpectrumTexture::Checkerboard {
                             tex1: Box::new(tp.spectrum_texture("tex1", None, kind)?.unwrap_or(one)),
                             tex2: Box::new(tp.spectrum_texture("tex2", None, kind)?.unwrap_or(zero)),
-                            scale,
-                            delta,
+                            mapping,
                         }),
                     )
                 }
             }
         }
         (other, _) => {
-            return scene_error(format!("texture \"{other}\" is not supported yet (supported: constant, scale, checkerboard)"), loc)
+            return scene_error(format!("texture \"{other}\" is not supported yet (supported: constant, scale, checkerboard, imagemap)"), loc)
         }
     };
     Ok(Some(result))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn uv_differentials_solve_for_the_surface_parametrisation() {
+        let si = SurfaceInteraction {
+            dpdu: Vec3::new(2.0, 0.0, 0.0),
+            dpdv: Vec3::new(1.0, 4.0, 0.0),
+            ..Default::default()
+        };
+        // Moving by ∂p/∂u·½ + ∂p/∂v·¼ per pixel in x, by ∂p/∂v·(−½) in y.
+        let ctx = TextureEvalContext::with_differentials(
+            &si,
+            si.dpdu * 0.5 + si.dpdv * 0.25,
+            si.dpdv * -0.5,
+        );
+        let close = |a: f32, b: f32| (a - b).abs() < 1e-6;
+        assert!(close(ctx.dudx, 0.5) && close(ctx.dvdx, 0.25), "{ctx:?}");
+        assert!(close(ctx.dudy, 0.0) && close(ctx.dvdy, -0.5), "{ctx:?}");
+        // A degenerate parametrisation gives zero, not NaN.
+        let flat = SurfaceInteraction::default();
+        let ctx = TextureEvalContext::with_differentials(&flat, Vec3::X, Vec3::Y);
+        assert_eq!((ctx.dudx, ctx.dvdy), (0.0, 0.0));
+    }
 }

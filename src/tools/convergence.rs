@@ -133,7 +133,9 @@ pub fn measure(m: &Measurement) -> Result<Vec<Run>, Error> {
                 bar.set_message(format!("{} {spp} spp seed {seed}", renderer.name()));
                 let out = renders.join(format!("{}-{spp}spp-seed{seed}.exr", renderer.name()));
                 let (seconds, parse_seconds, build_seconds) = match (renderer, m.pbrt) {
-                    (Renderer::Pbrt, Some(pbrt)) => (run_pbrt(pbrt, m, spp, seed, &out)?, None, None),
+                    (Renderer::Pbrt, Some(pbrt)) => {
+                        (run_pbrt(pbrt, m, spp, seed, &out)?, None, None)
+                    }
                     _ => {
                         let overrides = RenderOverrides {
                             spp: Some(spp),
@@ -144,7 +146,11 @@ pub fn measure(m: &Measurement) -> Result<Vec<Run>, Error> {
                         let start = Instant::now();
                         let report = render_file(m.scene, &overrides, m.threads, false)?;
                         let seconds = start.elapsed().as_secs_f64();
-                        (seconds, Some(report.parse.as_secs_f64()), Some(report.build.as_secs_f64()))
+                        (
+                            seconds,
+                            Some(report.parse.as_secs_f64()),
+                            Some(report.build.as_secs_f64()),
+                        )
                     }
                 };
                 let image = Image::read(&out)?;
@@ -186,7 +192,13 @@ fn run_pbrt(pbrt: &Path, m: &Measurement, spp: u32, seed: i32, out: &Path) -> Re
     let start = Instant::now();
     let output = std::process::Command::new(pbrt)
         .current_dir(folder)
-        .args(["--quiet", "--nthreads", &m.threads.to_string(), "--spp", &spp.to_string()])
+        .args([
+            "--quiet",
+            "--nthreads",
+            &m.threads.to_string(),
+            "--spp",
+            &spp.to_string(),
+        ])
         .args(["--seed", &seed.to_string(), "--outfile"])
         .arg(&out)
         .arg(&scene)
@@ -207,12 +219,19 @@ fn run_pbrt(pbrt: &Path, m: &Measurement, spp: u32, seed: i32, out: &Path) -> Re
 /// A renderer's curve: per sample count, the mean seconds and mean MRSE
 /// over its seeds, in increasing sample count.
 pub fn curve(runs: &[Run], renderer: Renderer) -> Vec<(u32, f64, f64)> {
-    let mut spps: Vec<u32> = runs.iter().filter(|r| r.renderer == renderer).map(|r| r.spp).collect();
+    let mut spps: Vec<u32> = runs
+        .iter()
+        .filter(|r| r.renderer == renderer)
+        .map(|r| r.spp)
+        .collect();
     spps.sort_unstable();
     spps.dedup();
     spps.into_iter()
         .map(|spp| {
-            let of: Vec<&Run> = runs.iter().filter(|r| r.renderer == renderer && r.spp == spp).collect();
+            let of: Vec<&Run> = runs
+                .iter()
+                .filter(|r| r.renderer == renderer && r.spp == spp)
+                .collect();
             let n = of.len() as f64;
             (
                 spp,
@@ -284,9 +303,16 @@ pub fn csv(runs: &[Run]) -> String {
 pub fn plot(title: &str, runs: &[Run], extra: Vec<Series>) -> Result<Image, Error> {
     let mut series = Vec::new();
     for (renderer, colour) in [(Renderer::Rpbrt, BLUE), (Renderer::Pbrt, ORANGE)] {
-        let points: Vec<(f64, f64)> = curve(runs, renderer).iter().map(|&(_, t, e)| (t, e)).collect();
+        let points: Vec<(f64, f64)> = curve(runs, renderer)
+            .iter()
+            .map(|&(_, t, e)| (t, e))
+            .collect();
         if !points.is_empty() {
-            series.push(Series { label: renderer.name().into(), colour, points });
+            series.push(Series {
+                label: renderer.name().into(),
+                colour,
+                points,
+            });
         }
     }
     series.extend(extra);
@@ -294,7 +320,12 @@ pub fn plot(title: &str, runs: &[Run], extra: Vec<Series>) -> Result<Image, Erro
 }
 
 /// Writes `convergence.csv` and `convergence.png` into `out`.
-pub fn write_results(out: &Path, title: &str, runs: &[Run], extra: Vec<Series>) -> Result<(), Error> {
+pub fn write_results(
+    out: &Path,
+    title: &str,
+    runs: &[Run],
+    extra: Vec<Series>,
+) -> Result<(), Error> {
     let csv_path = out.join("convergence.csv");
     std::fs::write(&csv_path, csv(runs)).map_err(io_error(&csv_path))?;
     plot(title, runs, extra)?.write(out.join("convergence.png"))?;
@@ -310,7 +341,9 @@ pub fn threads(requested: Option<usize>) -> usize {
 
 pub fn run(args: &ConvergenceArgs) -> Result<(), Error> {
     if args.spp.is_empty() || args.spp.contains(&0) {
-        return Err(Error::Usage("--spp needs sample counts of at least 1".into()));
+        return Err(Error::Usage(
+            "--spp needs sample counts of at least 1".into(),
+        ));
     }
     let m = Measurement {
         scene: &args.scene,
@@ -323,7 +356,10 @@ pub fn run(args: &ConvergenceArgs) -> Result<(), Error> {
         progress: !args.quiet,
     };
     let runs = measure(&m)?;
-    let title = args.scene.file_stem().map_or(String::new(), |s| s.to_string_lossy().into_owned());
+    let title = args
+        .scene
+        .file_stem()
+        .map_or(String::new(), |s| s.to_string_lossy().into_owned());
     write_results(&args.out, &title, &runs, Vec::new())?;
     println!("renderer  spp  seconds  MRSE");
     for renderer in [Renderer::Rpbrt, Renderer::Pbrt] {
@@ -365,7 +401,10 @@ mod tests {
             mrse,
         };
         let runs = [run(4, 2.0, 0.2), run(1, 1.0, 0.5), run(4, 4.0, 0.4)];
-        assert_eq!(curve(&runs, Renderer::Rpbrt), [(1, 1.0, 0.5), (4, 3.0, 0.30000000000000004)]);
+        assert_eq!(
+            curve(&runs, Renderer::Rpbrt),
+            [(1, 1.0, 0.5), (4, 3.0, 0.30000000000000004)]
+        );
         assert!(curve(&runs, Renderer::Pbrt).is_empty());
         assert!(csv(&runs).starts_with("renderer,spp,seed,seconds,parse_seconds,build_seconds,mrse\nrpbrt,4,1,2.0000,,,2.000000e-1\n"));
     }

@@ -89,9 +89,8 @@ fn csf_kernels(ppd: f32) -> [Kernel; 3] {
     let pi2 = std::f32::consts::PI * std::f32::consts::PI;
     let radius = (3.0 * (max_b / (2.0 * pi2)).sqrt() * ppd).ceil() as i32;
     params.map(|(a1, b1, a2, b2): (f32, f32, f32, f32)| {
-        let gauss = |a: f32, b: f32, d2: f32| {
-            a * (std::f32::consts::PI / b).sqrt() * (-pi2 * d2 / b).exp()
-        };
+        let gauss =
+            |a: f32, b: f32, d2: f32| a * (std::f32::consts::PI / b).sqrt() * (-pi2 * d2 / b).exp();
         let mut weights = Vec::new();
         for y in -radius..=radius {
             for x in -radius..=radius {
@@ -215,7 +214,13 @@ fn perceive(rgb: &[f32], width: usize, height: usize, ppd: f32) -> Perceived {
 
 /// The LDR-FLIP error of each pixel (row-major), in [0, 1]. `image` and
 /// `reference` are interleaved linear RGB of `width` × `height` pixels.
-pub fn flip_map(image: &[f32], reference: &[f32], width: usize, height: usize, ppd: f32) -> Vec<f32> {
+pub fn flip_map(
+    image: &[f32],
+    reference: &[f32],
+    width: usize,
+    height: usize,
+    ppd: f32,
+) -> Vec<f32> {
     assert_eq!(image.len(), width * height * 3);
     assert_eq!(reference.len(), image.len());
     let test = perceive(image, width, height, ppd);
@@ -280,6 +285,9 @@ mod tests {
         assert!(hyab(green, blue) > hyab(red, green));
         // White has L* = 100 and no chroma.
         let white = lab_from_xyz(m * Vec3::ONE);
-        assert!((white.x - 100.0).abs() < 1e-3 && white.y.abs() < 1e-2, "{white}");
+        assert!(
+            (white.x - 100.0).abs() < 1e-3 && white.y.abs() < 1e-2,
+            "{white}"
+        );
     }
 }

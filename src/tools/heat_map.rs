@@ -16,7 +16,11 @@ const RAMP: [[f32; 3]; 5] = [
 
 /// The ramp's colour for `t` in [0, 1] (clamped).
 pub fn false_colour(t: f64) -> [f32; 3] {
-    let t = if t.is_finite() { t.clamp(0.0, 1.0) } else { 1.0 } as f32;
+    let t = if t.is_finite() {
+        t.clamp(0.0, 1.0)
+    } else {
+        1.0
+    } as f32;
     let x = t * (RAMP.len() - 1) as f32;
     let i = (x.floor() as usize).min(RAMP.len() - 2);
     let f = x - i as f32;
@@ -28,7 +32,10 @@ pub fn false_colour(t: f64) -> [f32; 3] {
 /// `scale` (or more) the ramp's end.
 pub fn heat_map(values: &[f64], width: u32, height: u32, scale: f64) -> Result<Image, ImageError> {
     let scale = if scale > 0.0 { scale } else { 1.0 };
-    let data = values.iter().flat_map(|&v| false_colour(v / scale)).collect();
+    let data = values
+        .iter()
+        .flat_map(|&v| false_colour(v / scale))
+        .collect();
     display_image(width, height, data)
 }
 

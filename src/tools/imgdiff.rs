@@ -26,7 +26,13 @@ impl Metric {
 
     /// Each pixel's error (the mean over R, G, B for the per-value metrics).
     /// `image` and `reference` are interleaved linear RGB, row-major.
-    pub fn pixel_errors(self, image: &[f32], reference: &[f32], width: usize, height: usize) -> Vec<f64> {
+    pub fn pixel_errors(
+        self,
+        image: &[f32],
+        reference: &[f32],
+        width: usize,
+        height: usize,
+    ) -> Vec<f64> {
         assert_eq!(image.len(), width * height * 3);
         assert_eq!(reference.len(), image.len());
         let per_value = |f: fn(f64, f64) -> f64| {
@@ -40,12 +46,16 @@ impl Metric {
             Metric::Mse => per_value(|x, r| (x - r) * (x - r)),
             Metric::Mrse => per_value(relative_squared_error),
             Metric::Mae => per_value(|x, r| (x - r).abs()),
-            Metric::Flip => {
-                super::flip::flip_map(image, reference, width, height, super::flip::DEFAULT_PIXELS_PER_DEGREE)
-                    .into_iter()
-                    .map(f64::from)
-                    .collect()
-            }
+            Metric::Flip => super::flip::flip_map(
+                image,
+                reference,
+                width,
+                height,
+                super::flip::DEFAULT_PIXELS_PER_DEGREE,
+            )
+            .into_iter()
+            .map(f64::from)
+            .collect(),
         }
     }
 

@@ -2,6 +2,7 @@
 //! arguments and its `run`), image comparison, convergence runs and the
 //! performance report, and generated test scenes.
 
+pub mod bcsdf;
 pub mod convergence;
 pub mod curvegen;
 pub mod flip;

@@ -47,13 +47,28 @@ impl Canvas {
     }
 
     /// A line `thickness` pixels wide (a square brush along the DDA path).
-    fn line(&mut self, (x0, y0): (f64, f64), (x1, y1): (f64, f64), thickness: i64, colour: [f32; 3]) {
+    fn line(
+        &mut self,
+        (x0, y0): (f64, f64),
+        (x1, y1): (f64, f64),
+        thickness: i64,
+        colour: [f32; 3],
+    ) {
         let steps = (x1 - x0).abs().max((y1 - y0).abs()).ceil().max(1.0) as i64;
         let half = thickness / 2;
         for s in 0..=steps {
             let t = s as f64 / steps as f64;
-            let (x, y) = ((x0 + (x1 - x0) * t).round() as i64, (y0 + (y1 - y0) * t).round() as i64);
-            self.rect(x - half, y - half, x - half + thickness - 1, y - half + thickness - 1, colour);
+            let (x, y) = (
+                (x0 + (x1 - x0) * t).round() as i64,
+                (y0 + (y1 - y0) * t).round() as i64,
+            );
+            self.rect(
+                x - half,
+                y - half,
+                x - half + thickness - 1,
+                y - half + thickness - 1,
+                colour,
+            );
         }
     }
 
@@ -65,8 +80,17 @@ impl Canvas {
             for (row, bits) in rows.iter().enumerate() {
                 for (col, bit) in bits.bytes().enumerate() {
                     if bit == b'#' {
-                        let (px, py) = (x + k as i64 * advance + (col * TEXT_SCALE) as i64, y + (row * TEXT_SCALE) as i64);
-                        self.rect(px, py, px + TEXT_SCALE as i64 - 1, py + TEXT_SCALE as i64 - 1, colour);
+                        let (px, py) = (
+                            x + k as i64 * advance + (col * TEXT_SCALE) as i64,
+                            y + (row * TEXT_SCALE) as i64,
+                        );
+                        self.rect(
+                            px,
+                            py,
+                            px + TEXT_SCALE as i64 - 1,
+                            py + TEXT_SCALE as i64 - 1,
+                            colour,
+                        );
                     }
                 }
             }
@@ -103,15 +127,33 @@ fn decade_range(values: impl Iterator<Item = f64>) -> (i32, i32) {
 }
 
 /// A log–log plot of `series`, titled, with the axes named.
-pub fn log_log_plot(title: &str, x_name: &str, y_name: &str, series: &[Series]) -> Result<Image, ImageError> {
+pub fn log_log_plot(
+    title: &str,
+    x_name: &str,
+    y_name: &str,
+    series: &[Series],
+) -> Result<Image, ImageError> {
     let white = [1.0; 3];
     let black = [0.0; 3];
     let grey = [0.85; 3];
-    let mut canvas = Canvas { data: [white].repeat(WIDTH * HEIGHT).concat() };
+    let mut canvas = Canvas {
+        data: [white].repeat(WIDTH * HEIGHT).concat(),
+    };
     let valid = |p: &&(f64, f64)| p.0 > 0.0 && p.1 > 0.0 && p.0.is_finite() && p.1.is_finite();
-    let (x_lo, x_hi) = decade_range(series.iter().flat_map(|s| s.points.iter().filter(valid).map(|p| p.0)));
-    let (y_lo, y_hi) = decade_range(series.iter().flat_map(|s| s.points.iter().filter(valid).map(|p| p.1)));
-    let (plot_w, plot_h) = ((WIDTH - LEFT - RIGHT) as f64, (HEIGHT - TOP - BOTTOM) as f64);
+    let (x_lo, x_hi) = decade_range(
+        series
+            .iter()
+            .flat_map(|s| s.points.iter().filter(valid).map(|p| p.0)),
+    );
+    let (y_lo, y_hi) = decade_range(
+        series
+            .iter()
+            .flat_map(|s| s.points.iter().filter(valid).map(|p| p.1)),
+    );
+    let (plot_w, plot_h) = (
+        (WIDTH - LEFT - RIGHT) as f64,
+        (HEIGHT - TOP - BOTTOM) as f64,
+    );
     let to_pixel = |(x, y): (f64, f64)| {
         let u = (x.log10() - x_lo as f64) / (x_hi - x_lo) as f64;
         let v = (y.log10() - y_lo as f64) / (y_hi - y_lo) as f64;
@@ -135,11 +177,21 @@ pub fn log_log_plot(title: &str, x_name: &str, y_name: &str, series: &[Series]) 
     }
     canvas.rect(left, top, left + 1, bottom, black);
     canvas.rect(left, bottom - 1, right, bottom, black);
-    canvas.text((left + right) / 2 - text_width(x_name) / 2, bottom + 34, x_name, black);
+    canvas.text(
+        (left + right) / 2 - text_width(x_name) / 2,
+        bottom + 34,
+        x_name,
+        black,
+    );
     canvas.text(8, 12, y_name, black);
     canvas.text((left + right) / 2 - text_width(title) / 2, 12, title, black);
     for (index, s) in series.iter().enumerate() {
-        let points: Vec<(f64, f64)> = s.points.iter().filter(valid).map(|&p| to_pixel(p)).collect();
+        let points: Vec<(f64, f64)> = s
+            .points
+            .iter()
+            .filter(valid)
+            .map(|&p| to_pixel(p))
+            .collect();
         for pair in points.windows(2) {
             canvas.line(pair[0], pair[1], 2, s.colour);
         }
@@ -149,7 +201,12 @@ pub fn log_log_plot(title: &str, x_name: &str, y_name: &str, series: &[Series]) 
         }
         let ly = top + 12 + 22 * index as i64;
         let lx = right - 16 - text_width(&s.label) - 40;
-        canvas.line((lx as f64, ly as f64 + 7.0), (lx as f64 + 30.0, ly as f64 + 7.0), 3, s.colour);
+        canvas.line(
+            (lx as f64, ly as f64 + 7.0),
+            (lx as f64 + 30.0, ly as f64 + 7.0),
+            3,
+            s.colour,
+        );
         canvas.text(lx + 38, ly, &s.label, black);
     }
     display_image(WIDTH as u32, HEIGHT as u32, canvas.data)
@@ -160,54 +217,108 @@ pub fn log_log_plot(title: &str, x_name: &str, y_name: &str, series: &[Series]) 
 fn glyph(c: char) -> [&'static str; 7] {
     const BLANK: &str = "     ";
     match c {
-        '0' => [" ### ", "#   #", "#  ##", "# # #", "##  #", "#   #", " ### "],
-        '1' => ["  #  ", " ##  ", "  #  ", "  #  ", "  #  ", "  #  ", " ### "],
-        '2' => [" ### ", "#   #", "    #", "   # ", "  #  ", " #   ", "#####"],
-        '3' => ["#####", "   # ", "  #  ", "   # ", "    #", "#   #", " ### "],
-        '4' => ["   # ", "  ## ", " # # ", "#  # ", "#####", "   # ", "   # "],
-        '5' => ["#####", "#    ", "#### ", "    #", "    #", "#   #", " ### "],
-        '6' => ["  ## ", " #   ", "#    ", "#### ", "#   #", "#   #", " ### "],
-        '7' => ["#####", "    #", "   # ", "  #  ", " #   ", " #   ", " #   "],
-        '8' => [" ### ", "#   #", "#   #", " ### ", "#   #", "#   #", " ### "],
-        '9' => [" ### ", "#   #", "#   #", " ####", "    #", "   # ", " ##  "],
+        '0' => [
+            " ### ", "#   #", "#  ##", "# # #", "##  #", "#   #", " ### ",
+        ],
+        '1' => [
+            "  #  ", " ##  ", "  #  ", "  #  ", "  #  ", "  #  ", " ### ",
+        ],
+        '2' => [
+            " ### ", "#   #", "    #", "   # ", "  #  ", " #   ", "#####",
+        ],
+        '3' => [
+            "#####", "   # ", "  #  ", "   # ", "    #", "#   #", " ### ",
+        ],
+        '4' => [
+            "   # ", "  ## ", " # # ", "#  # ", "#####", "   # ", "   # ",
+        ],
+        '5' => [
+            "#####", "#    ", "#### ", "    #", "    #", "#   #", " ### ",
+        ],
+        '6' => [
+            "  ## ", " #   ", "#    ", "#### ", "#   #", "#   #", " ### ",
+        ],
+        '7' => [
+            "#####", "    #", "   # ", "  #  ", " #   ", " #   ", " #   ",
+        ],
+        '8' => [
+            " ### ", "#   #", "#   #", " ### ", "#   #", "#   #", " ### ",
+        ],
+        '9' => [
+            " ### ", "#   #", "#   #", " ####", "    #", "   # ", " ##  ",
+        ],
         '.' => [BLANK, BLANK, BLANK, BLANK, BLANK, " ##  ", " ##  "],
         ',' => [BLANK, BLANK, BLANK, BLANK, " ##  ", "  #  ", " #   "],
         '-' => [BLANK, BLANK, BLANK, " ### ", BLANK, BLANK, BLANK],
         '+' => [BLANK, "  #  ", "  #  ", "#####", "  #  ", "  #  ", BLANK],
-        '(' => ["   # ", "  #  ", " #   ", " #   ", " #   ", "  #  ", "   # "],
-        ')' => [" #   ", "  #  ", "   # ", "   # ", "   # ", "  #  ", " #   "],
+        '(' => [
+            "   # ", "  #  ", " #   ", " #   ", " #   ", "  #  ", "   # ",
+        ],
+        ')' => [
+            " #   ", "  #  ", "   # ", "   # ", "   # ", "  #  ", " #   ",
+        ],
         '/' => [BLANK, "    #", "   # ", "  #  ", " #   ", "#    ", BLANK],
-        '@' => [" ### ", "#   #", "# ###", "# # #", "# ###", "#    ", " ####"],
+        '@' => [
+            " ### ", "#   #", "# ###", "# # #", "# ###", "#    ", " ####",
+        ],
         'a' => [BLANK, BLANK, " ### ", "    #", " ####", "#   #", " ####"],
-        'b' => ["#    ", "#    ", "# ## ", "##  #", "#   #", "#   #", "#### "],
+        'b' => [
+            "#    ", "#    ", "# ## ", "##  #", "#   #", "#   #", "#### ",
+        ],
         'c' => [BLANK, BLANK, " ### ", "#    ", "#    ", "#   #", " ### "],
-        'd' => ["    #", "    #", " ## #", "#  ##", "#   #", "#   #", " ####"],
+        'd' => [
+            "    #", "    #", " ## #", "#  ##", "#   #", "#   #", " ####",
+        ],
         'e' => [BLANK, BLANK, " ### ", "#   #", "#####", "#    ", " ### "],
-        'f' => ["  ## ", " #  #", " #   ", "###  ", " #   ", " #   ", " #   "],
+        'f' => [
+            "  ## ", " #  #", " #   ", "###  ", " #   ", " #   ", " #   ",
+        ],
         'g' => [BLANK, " ####", "#   #", "#   #", " ####", "    #", " ### "],
-        'h' => ["#    ", "#    ", "# ## ", "##  #", "#   #", "#   #", "#   #"],
+        'h' => [
+            "#    ", "#    ", "# ## ", "##  #", "#   #", "#   #", "#   #",
+        ],
         'i' => ["  #  ", BLANK, " ##  ", "  #  ", "  #  ", "  #  ", " ### "],
-        'k' => ["#    ", "#    ", "#  # ", "# #  ", "##   ", "# #  ", "#  # "],
-        'l' => [" ##  ", "  #  ", "  #  ", "  #  ", "  #  ", "  #  ", " ### "],
+        'k' => [
+            "#    ", "#    ", "#  # ", "# #  ", "##   ", "# #  ", "#  # ",
+        ],
+        'l' => [
+            " ##  ", "  #  ", "  #  ", "  #  ", "  #  ", "  #  ", " ### ",
+        ],
         'm' => [BLANK, BLANK, "## # ", "# # #", "# # #", "#   #", "#   #"],
         'n' => [BLANK, BLANK, "# ## ", "##  #", "#   #", "#   #", "#   #"],
         'o' => [BLANK, BLANK, " ### ", "#   #", "#   #", "#   #", " ### "],
         'p' => [BLANK, BLANK, "#### ", "#   #", "#### ", "#    ", "#    "],
         'r' => [BLANK, BLANK, "# ## ", "##  #", "#    ", "#    ", "#    "],
         's' => [BLANK, BLANK, " ####", "#    ", " ### ", "    #", "#### "],
-        't' => [" #   ", " #   ", "###  ", " #   ", " #   ", " #  #", "  ## "],
+        't' => [
+            " #   ", " #   ", "###  ", " #   ", " #   ", " #  #", "  ## ",
+        ],
         'u' => [BLANK, BLANK, "#   #", "#   #", "#   #", "#  ##", " ## #"],
         'v' => [BLANK, BLANK, "#   #", "#   #", "#   #", " # # ", "  #  "],
         'w' => [BLANK, BLANK, "#   #", "#   #", "# # #", "# # #", " # # "],
         'x' => [BLANK, BLANK, "#   #", " # # ", "  #  ", " # # ", "#   #"],
         'y' => [BLANK, BLANK, "#   #", "#   #", " ####", "    #", " ### "],
-        'B' => ["#### ", "#   #", "#   #", "#### ", "#   #", "#   #", "#### "],
-        'E' => ["#####", "#    ", "#    ", "#### ", "#    ", "#    ", "#####"],
-        'M' => ["#   #", "## ##", "# # #", "# # #", "#   #", "#   #", "#   #"],
-        'R' => ["#### ", "#   #", "#   #", "#### ", "# #  ", "#  # ", "#   #"],
-        'S' => [" ####", "#    ", "#    ", " ### ", "    #", "    #", "#### "],
-        'V' => ["#   #", "#   #", "#   #", "#   #", "#   #", " # # ", "  #  "],
-        'H' => ["#   #", "#   #", "#   #", "#####", "#   #", "#   #", "#   #"],
+        'B' => [
+            "#### ", "#   #", "#   #", "#### ", "#   #", "#   #", "#### ",
+        ],
+        'E' => [
+            "#####", "#    ", "#    ", "#### ", "#    ", "#    ", "#####",
+        ],
+        'M' => [
+            "#   #", "## ##", "# # #", "# # #", "#   #", "#   #", "#   #",
+        ],
+        'R' => [
+            "#### ", "#   #", "#   #", "#### ", "# #  ", "#  # ", "#   #",
+        ],
+        'S' => [
+            " ####", "#    ", "#    ", " ### ", "    #", "    #", "#### ",
+        ],
+        'V' => [
+            "#   #", "#   #", "#   #", "#   #", "#   #", " # # ", "  #  ",
+        ],
+        'H' => [
+            "#   #", "#   #", "#   #", "#####", "#   #", "#   #", "#   #",
+        ],
         _ => [BLANK; 7],
     }
 }
@@ -228,12 +339,29 @@ mod tests {
     #[test]
     fn curves_are_drawn_in_their_colours() {
         let series = [
-            Series { label: "rpbrt".into(), colour: BLUE, points: vec![(1.0, 0.1), (10.0, 0.01)] },
-            Series { label: "pbrt-v4".into(), colour: ORANGE, points: vec![(2.0, 0.1), (20.0, 0.01), (0.0, 1.0)] },
+            Series {
+                label: "rpbrt".into(),
+                colour: BLUE,
+                points: vec![(1.0, 0.1), (10.0, 0.01)],
+            },
+            Series {
+                label: "pbrt-v4".into(),
+                colour: ORANGE,
+                points: vec![(2.0, 0.1), (20.0, 0.01), (0.0, 1.0)],
+            },
         ];
         let image = log_log_plot("scene", "seconds", "MRSE", &series).unwrap();
-        assert_eq!((image.width(), image.height()), (WIDTH as u32, HEIGHT as u32));
-        let count = |colour: [f32; 3]| image.data().chunks_exact(3).filter(|p| *p == colour).count();
+        assert_eq!(
+            (image.width(), image.height()),
+            (WIDTH as u32, HEIGHT as u32)
+        );
+        let count = |colour: [f32; 3]| {
+            image
+                .data()
+                .chunks_exact(3)
+                .filter(|p| *p == colour)
+                .count()
+        };
         assert!(count(BLUE) > 200, "{}", count(BLUE));
         assert!(count(ORANGE) > 200, "{}", count(ORANGE));
         // x spans the decades 1–100, y 0.01–0.1: the first curve's midpoint

@@ -73,7 +73,12 @@ pub fn parse_reference_table(readme: &str) -> Vec<ReferenceRow> {
     readme
         .lines()
         .filter_map(|line| {
-            let cells: Vec<&str> = line.trim().trim_matches('|').split('|').map(str::trim).collect();
+            let cells: Vec<&str> = line
+                .trim()
+                .trim_matches('|')
+                .split('|')
+                .map(str::trim)
+                .collect();
             if cells.len() != 7 {
                 return None;
             }
@@ -107,11 +112,13 @@ fn machine() -> String {
         })
         .unwrap_or_else(|| "unknown CPU".into());
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
-    let memory = std::fs::read_to_string("/proc/meminfo").ok().and_then(|info| {
-        let line = info.lines().find(|l| l.starts_with("MemTotal:"))?;
-        let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
-        Some(format!(", {:.0} GiB memory", kb / (1024.0 * 1024.0)))
-    });
+    let memory = std::fs::read_to_string("/proc/meminfo")
+        .ok()
+        .and_then(|info| {
+            let line = info.lines().find(|l| l.starts_with("MemTotal:"))?;
+            let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+            Some(format!(", {:.0} GiB memory", kb / (1024.0 * 1024.0)))
+        });
     format!("{model}, {cores} cores{}", memory.unwrap_or_default())
 }
 
@@ -127,7 +134,8 @@ fn commit() -> String {
     };
     match git(&["rev-parse", "--short", "HEAD"]) {
         Some(hash) => {
-            let dirty = git(&["status", "--porcelain", "--untracked-files=no"]).is_some_and(|s| !s.is_empty());
+            let dirty = git(&["status", "--porcelain", "--untracked-files=no"])
+                .is_some_and(|s| !s.is_empty());
             if dirty {
                 format!("{hash} + uncommitted changes")
             } else {
@@ -161,14 +169,25 @@ fn peak_memory_mb(scene: &Path, threads: usize, out: &Path) -> Option<u64> {
     let exe = std::env::current_exe().ok()?;
     let output = std::process::Command::new(exe)
         .arg(scene)
-        .args(["--spp", "1", "--quiet", "--stats", "--nthreads", &threads.to_string(), "--outfile"])
+        .args([
+            "--spp",
+            "1",
+            "--quiet",
+            "--stats",
+            "--nthreads",
+            &threads.to_string(),
+            "--outfile",
+        ])
         .arg(out)
         .output()
         .ok()?;
     let stdout = String::from_utf8_lossy(&output.stdout);
-    stdout
-        .lines()
-        .find_map(|l| l.strip_prefix("peak memory: ")?.strip_suffix(" MB")?.parse().ok())
+    stdout.lines().find_map(|l| {
+        l.strip_prefix("peak memory: ")?
+            .strip_suffix(" MB")?
+            .parse()
+            .ok()
+    })
 }
 
 fn median(mut values: Vec<f64>) -> Option<f64> {
@@ -192,7 +211,10 @@ struct SceneResult {
 
 /// Formats a ratio with the goal it is held to.
 fn ratio_text(ratio: f64, extrapolated: bool) -> String {
-    format!("{ratio:.2}×{}", if extrapolated { " (extrap.)" } else { "" })
+    format!(
+        "{ratio:.2}×{}",
+        if extrapolated { " (extrap.)" } else { "" }
+    )
 }
 
 pub fn run(args: &ReportArgs) -> Result<(), Error> {
@@ -225,7 +247,10 @@ pub fn run(args: &ReportArgs) -> Result<(), Error> {
             spp.dedup();
         }
         let work = args.work.join(name);
-        eprintln!("{name}: rendering at {spp:?} spp, {} seeds each", args.repeat);
+        eprintln!(
+            "{name}: rendering at {spp:?} spp, {} seeds each",
+            args.repeat
+        );
         let m = Measurement {
             scene: &scene,
             reference: &reference,
@@ -258,7 +283,13 @@ pub fn run(args: &ReportArgs) -> Result<(), Error> {
         let plot = plots.join(&plot_name);
         std::fs::copy(work.join("convergence.png"), &plot).map_err(io_error(&plot))?;
         let peak_mb = peak_memory_mb(&scene, threads, &work.join("peak-memory.exr"));
-        results.push(SceneResult { name: name.clone(), runs, rows, peak_mb, plot: plot_name });
+        results.push(SceneResult {
+            name: name.clone(),
+            runs,
+            rows,
+            peak_mb,
+            plot: plot_name,
+        });
     }
     let dual = dual_model_section(args, threads)?;
     let text = markdown(args, &results, &skipped, &dual);
@@ -271,7 +302,10 @@ pub fn run(args: &ReportArgs) -> Result<(), Error> {
 /// dual-model hair scene and its circular twin, timed the same way.
 fn dual_model_section(args: &ReportArgs, threads: usize) -> Result<String, Error> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("pbrt-scenes");
-    let (dual, circular) = (root.join("hair-dual.pbrt"), root.join("hair-dual-circular.pbrt"));
+    let (dual, circular) = (
+        root.join("hair-dual.pbrt"),
+        root.join("hair-dual-circular.pbrt"),
+    );
     let mut text = String::from("## Dual model overhead (the paper's Table 2)\n\n");
     if !dual.exists() || !circular.exists() {
         let _ = writeln!(
@@ -307,7 +341,10 @@ fn dual_model_section(args: &ReportArgs, threads: usize) -> Result<String, Error
         args.repeat.max(1),
         args.dual_spp
     );
-    let _ = writeln!(text, "| scene | circular model (pbrt-v4's hair) | dual model | overhead |\n|---|---|---|---|");
+    let _ = writeln!(
+        text,
+        "| scene | circular model (pbrt-v4's hair) | dual model | overhead |\n|---|---|---|---|"
+    );
     let _ = writeln!(
         text,
         "| `hair-dual.pbrt` vs `hair-dual-circular.pbrt` | {circular_s:.2} s | {dual_s:.2} s | {:.2}× |",
@@ -367,18 +404,28 @@ fn markdown(args: &ReportArgs, results: &[SceneResult], skipped: &[String], dual
     );
     for r in results {
         let hair = r.name.starts_with("hair");
-        let points: Vec<(f64, f64)> = curve(&r.runs, Renderer::Rpbrt).iter().map(|&(_, s, e)| (s, e)).collect();
+        let points: Vec<(f64, f64)> = curve(&r.runs, Renderer::Rpbrt)
+            .iter()
+            .map(|&(_, s, e)| (s, e))
+            .collect();
         let headline = r
             .rows
             .iter()
             .find_map(|row| Some((row, row.quiet_seconds?)))
-            .and_then(|(row, quiet)| time_at_error(&points, row.mrse).map(|(s, x)| (s / quiet, x, row.spp)));
+            .and_then(|(row, quiet)| {
+                time_at_error(&points, row.mrse).map(|(s, x)| (s / quiet, x, row.spp))
+            });
         let goal = if hair { 0.5 } else { 1.0 };
         let ratio = headline.map_or("—".into(), |(ratio, x, spp)| {
-            format!("{} at pbrt's {spp} spp{}", ratio_text(ratio, x), if ratio <= goal { " ✓" } else { "" })
+            format!(
+                "{} at pbrt's {spp} spp{}",
+                ratio_text(ratio, x),
+                if ratio <= goal { " ✓" } else { "" }
+            )
         });
         let of = |f: fn(&Run) -> Option<f64>| {
-            median(r.runs.iter().filter_map(f).collect()).map_or("—".into(), |v| format!("{v:.3}"))
+            median(r.runs.iter().filter_map(f).collect())
+                .map_or("—".into(), |v| format!("{v:.3}"))
         };
         let _ = writeln!(
             t,
@@ -394,21 +441,47 @@ fn markdown(args: &ReportArgs, results: &[SceneResult], skipped: &[String], dual
         let _ = writeln!(t, "\nSkipped: {s}");
     }
     for r in results {
-        let _ = writeln!(t, "\n## {}\n\n![{} convergence](performance/{})\n", r.name, r.name, r.plot);
-        let _ = writeln!(t, "| renderer | spp | seconds (mean) | MRSE (mean) |\n|---|---|---|---|");
+        let _ = writeln!(
+            t,
+            "\n## {}\n\n![{} convergence](performance/{})\n",
+            r.name, r.name, r.plot
+        );
+        let _ = writeln!(
+            t,
+            "| renderer | spp | seconds (mean) | MRSE (mean) |\n|---|---|---|---|"
+        );
         for renderer in [Renderer::Rpbrt, Renderer::Pbrt] {
             for (spp, s, e) in curve(&r.runs, renderer) {
-                let _ = writeln!(t, "| {} (this run) | {spp} | {s:.3} | {e:.6} |", renderer.name());
+                let _ = writeln!(
+                    t,
+                    "| {} (this run) | {spp} | {s:.3} | {e:.6} |",
+                    renderer.name()
+                );
             }
         }
         for row in &r.rows {
-            let (s, which) = row.quiet_seconds.map_or((row.rendered_seconds, "as rendered"), |q| (q, "quiet median"));
-            let _ = writeln!(t, "| pbrt-v4 (refs README, {which}) | {} | {s:.3} | {:.6} |", row.spp, row.mrse);
+            let (s, which) = row
+                .quiet_seconds
+                .map_or((row.rendered_seconds, "as rendered"), |q| {
+                    (q, "quiet median")
+                });
+            let _ = writeln!(
+                t,
+                "| pbrt-v4 (refs README, {which}) | {} | {s:.3} | {:.6} |",
+                row.spp, row.mrse
+            );
         }
-        let points: Vec<(f64, f64)> = curve(&r.runs, Renderer::Rpbrt).iter().map(|&(_, s, e)| (s, e)).collect();
+        let points: Vec<(f64, f64)> = curve(&r.runs, Renderer::Rpbrt)
+            .iter()
+            .map(|&(_, s, e)| (s, e))
+            .collect();
         let _ = writeln!(t, "\n| pbrt-v4 spp | pbrt-v4 MRSE | pbrt-v4 s | rpbrt s at that MRSE | ratio |\n|---|---|---|---|---|");
         for row in &r.rows {
-            let (s, which) = row.quiet_seconds.map_or((row.rendered_seconds, " (as rendered)"), |q| (q, " (quiet)"));
+            let (s, which) = row
+                .quiet_seconds
+                .map_or((row.rendered_seconds, " (as rendered)"), |q| {
+                    (q, " (quiet)")
+                });
             let ours = time_at_error(&points, row.mrse);
             let _ = writeln!(
                 t,

@@ -49,3 +49,28 @@ pub fn is_absent_include(e: &rpbrt::Error) -> bool {
         _ => false,
     }
 }
+
+/// Renders scene text (written to a temporary file) at `spp` on `threads`
+/// threads and reads the image back. `extra` overrides more settings.
+pub fn render_text(
+    name: &str,
+    scene: &str,
+    spp: u32,
+    threads: usize,
+    extra: rpbrt::scene::build::RenderOverrides,
+) -> rpbrt::image::Image {
+    let dir = std::env::temp_dir().join(format!("rpbrt-test-{name}-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("scene.pbrt");
+    std::fs::write(&path, scene).unwrap();
+    let out = dir.join("out.exr");
+    let overrides = rpbrt::scene::build::RenderOverrides {
+        spp: Some(spp),
+        outfile: Some(out.clone()),
+        ..extra
+    };
+    rpbrt::pipeline::render_file(&path, &overrides, threads, false).unwrap();
+    let image = rpbrt::image::Image::read(&out).unwrap();
+    std::fs::remove_dir_all(&dir).ok();
+    image
+}

@@ -40,13 +40,20 @@ pub fn run(args: &AssembleArgs) -> Result<(), Error> {
 /// The full image the pieces make up. Its format is half if every piece
 /// is (so writing it as half loses nothing), else float.
 pub fn assemble(pieces: &[PathBuf]) -> Result<Image, Error> {
-    let usage = |path: &Path, message: String| Error::Usage(format!("{}: {message}", path.display()));
+    let usage =
+        |path: &Path, message: String| Error::Usage(format!("{}: {message}", path.display()));
     let mut canvas: Option<(Vec<f32>, Vec<bool>, DataWindow, Vec<String>)> = None;
     let mut all_half = true;
     for path in pieces {
-        let is_exr = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+        let is_exr = path
+            .extension()
+            .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
         if !is_exr {
-            return Err(usage(path, "pieces must be OpenEXR files (only they record where they lie in the image)".into()));
+            return Err(usage(
+                path,
+                "pieces must be OpenEXR files (only they record where they lie in the image)"
+                    .into(),
+            ));
         }
         let (piece, window) = Image::read_exr_with_window(path)?;
         all_half &= piece.format() == PixelFormat::Half;
@@ -61,13 +68,22 @@ pub fn assemble(pieces: &[PathBuf]) -> Result<Image, Error> {
             )
         });
         if window.full_resolution != first.full_resolution {
-            return Err(usage(path, format!(
-                "belongs to a {full_w}×{full_h} image, the first piece to a {}×{} one",
-                first.full_resolution.0, first.full_resolution.1
-            )));
+            return Err(usage(
+                path,
+                format!(
+                    "belongs to a {full_w}×{full_h} image, the first piece to a {}×{} one",
+                    first.full_resolution.0, first.full_resolution.1
+                ),
+            ));
         }
         if piece.channels() != channels.as_slice() {
-            return Err(usage(path, format!("has channels {:?}, the first piece {channels:?}", piece.channels())));
+            return Err(usage(
+                path,
+                format!(
+                    "has channels {:?}, the first piece {channels:?}",
+                    piece.channels()
+                ),
+            ));
         }
         let n = channels.len();
         let (ox, oy) = window.origin;
@@ -75,13 +91,19 @@ pub fn assemble(pieces: &[PathBuf]) -> Result<Image, Error> {
             for x in 0..piece.width() {
                 let (fx, fy) = (ox + x as i32, oy + y as i32);
                 if fx < 0 || fy < 0 || fx >= full_w as i32 || fy >= full_h as i32 {
-                    return Err(usage(path, format!("pixel ({fx}, {fy}) lies outside the {full_w}×{full_h} image")));
+                    return Err(usage(
+                        path,
+                        format!("pixel ({fx}, {fy}) lies outside the {full_w}×{full_h} image"),
+                    ));
                 }
                 let index = fy as usize * full_w as usize + fx as usize;
                 let value = piece.pixel(x, y);
                 let target = &mut data[index * n..(index + 1) * n];
                 if covered[index] && target != value {
-                    return Err(usage(path, format!("pixel ({fx}, {fy}) differs from an earlier piece's")));
+                    return Err(usage(
+                        path,
+                        format!("pixel ({fx}, {fy}) differs from an earlier piece's"),
+                    ));
                 }
                 target.copy_from_slice(value);
                 covered[index] = true;
@@ -99,6 +121,17 @@ pub fn assemble(pieces: &[PathBuf]) -> Result<Image, Error> {
             missing / w as usize
         )));
     }
-    let format = if all_half { PixelFormat::Half } else { PixelFormat::Float };
-    Ok(Image::from_parts(w, h, channels, data, crate::image::ColorEncoding::Linear, format)?)
+    let format = if all_half {
+        PixelFormat::Half
+    } else {
+        PixelFormat::Float
+    };
+    Ok(Image::from_parts(
+        w,
+        h,
+        channels,
+        data,
+        crate::image::ColorEncoding::Linear,
+        format,
+    )?)
 }

@@ -23,10 +23,7 @@ pub struct ConvertArgs {
 }
 
 pub fn run(args: &ConvertArgs) -> Result<(), Error> {
-    let is_exr = |p: &std::path::Path| {
-        p.extension()
-            .is_some_and(|e| e.eq_ignore_ascii_case("exr"))
-    };
+    let is_exr = |p: &std::path::Path| p.extension().is_some_and(|e| e.eq_ignore_ascii_case("exr"));
     // An EXR's place in a larger image survives EXR → EXR.
     let (image, window) = if is_exr(&args.input) {
         let (image, window) = Image::read_exr_with_window(&args.input)?;

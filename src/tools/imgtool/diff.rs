@@ -56,7 +56,10 @@ pub fn run(args: &DiffArgs) -> Result<ExitCode, Error> {
     }
     Ok(match args.tolerance {
         Some(tolerance) if !(error <= tolerance) => {
-            eprintln!("{} {error:.6} exceeds the tolerance {tolerance}", args.metric.name());
+            eprintln!(
+                "{} {error:.6} exceeds the tolerance {tolerance}",
+                args.metric.name()
+            );
             ExitCode::FAILURE
         }
         _ => ExitCode::SUCCESS,

@@ -1,0 +1,109 @@
+//! Hair BSDF cost per call: pbrt-v4's circular fibre against the dual
+//! model (elliptical fibre, logistic and spectral diffraction), for
+//! value, sample and pdf over a fixed set of (h, ωo, ωi).
+
+use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use glam::{Vec2, Vec3};
+use rpbrt::bxdfs::dual_hair::{DualHairBxDF, DualHairParams};
+use rpbrt::bxdfs::hair::HairBxDF;
+use rpbrt::bxdfs::hair_diffraction::Diffraction;
+use rpbrt::bxdfs::hair_ellipse::{Ellipse, InternalFresnel, Variant};
+use rpbrt::bxdfs::{BxDF, BxDFReflTransFlags, TransportMode};
+use rpbrt::spectrum::SampledSpectrum;
+use std::hint::black_box;
+
+const N: usize = 1024;
+
+/// Deterministic inputs: (h, ωo, ωi, uc, u).
+fn inputs() -> Vec<(f32, Vec3, Vec3, f32, Vec2)> {
+    let mut s = 0x9e37_79b9u32;
+    let mut f = move || {
+        s ^= s << 13;
+        s ^= s >> 17;
+        s ^= s << 5;
+        s as f32 / u32::MAX as f32
+    };
+    let dir = |f: &mut dyn FnMut() -> f32| {
+        let z = 1.0 - 2.0 * f();
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        let p = std::f32::consts::TAU * f();
+        Vec3::new(r * p.cos(), r * p.sin(), z)
+    };
+    (0..N)
+        .map(|_| {
+            let h = -1.0 + 2.0 * f();
+            let wo = dir(&mut f);
+            let wi = dir(&mut f);
+            (h, wo, wi, f(), Vec2::new(f(), f()))
+        })
+        .collect()
+}
+
+fn make(kind: &str, h: f32) -> BxDF {
+    let sigma = SampledSpectrum([0.4, 0.6, 0.9, 1.3]);
+    let base = HairBxDF::new(h, 1.55, sigma, 0.3, 0.3, 2.0);
+    let params = |diffraction| DualHairParams {
+        ellipse: Ellipse::new(30.0, 20.0),
+        mean_radius_um: 25.0,
+        d_diff: 0.5,
+        diffraction,
+        variant: Variant::Exact,
+        internal_fresnel: InternalFresnel::Pbrt,
+    };
+    let lambda = [430.0, 520.0, 600.0, 680.0];
+    match kind {
+        "circular pbrt" => BxDF::Hair(base),
+        "elliptical logistic" => BxDF::DualHair(DualHairBxDF::new(
+            base,
+            params(Diffraction::Logistic),
+            0.4,
+            lambda,
+        )),
+        _ => BxDF::DualHair(DualHairBxDF::new(
+            base,
+            params(Diffraction::Spectral),
+            0.4,
+            lambda,
+        )),
+    }
+}
+
+fn hair(c: &mut Criterion) {
+    let inputs = inputs();
+    let mode = TransportMode::Radiance;
+    let all = BxDFReflTransFlags::All;
+    let mut g = c.benchmark_group("hair");
+    g.throughput(Throughput::Elements(N as u64));
+    for kind in [
+        "circular pbrt",
+        "elliptical logistic",
+        "elliptical spectral",
+    ] {
+        let bxdfs: Vec<BxDF> = inputs.iter().map(|i| make(kind, i.0)).collect();
+        g.bench_function(format!("{kind}/f"), |b| {
+            b.iter(|| {
+                for (x, i) in bxdfs.iter().zip(&inputs) {
+                    black_box(x.f(i.1, i.2, mode));
+                }
+            })
+        });
+        g.bench_function(format!("{kind}/sample_f"), |b| {
+            b.iter(|| {
+                for (x, i) in bxdfs.iter().zip(&inputs) {
+                    black_box(x.sample_f(i.1, i.3, i.4, mode, all));
+                }
+            })
+        });
+        g.bench_function(format!("{kind}/pdf"), |b| {
+            b.iter(|| {
+                for (x, i) in bxdfs.iter().zip(&inputs) {
+                    black_box(x.pdf(i.1, i.2, mode, all));
+                }
+            })
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, hair);
+criterion_main!(benches);

@@ -1,0 +1,138 @@
+//! Object instancing, pbrt-v4's way: which shapes go to the top level and
+//! which into instanced objects, and where each instance is.
+//!
+//! - An object's shapes are created in render space as they were written
+//!   (render-from-world × the transform in force inside `ObjectBegin`); an
+//!   instance places them by render-from-instance = render-from-world ×
+//!   (the transform at `ObjectInstance`) × world-from-render, as pbrt-v4.
+//! - An object used once is flattened: its shapes are created directly with
+//!   render-from-instance × render-from-object at the top level (no second
+//!   level to traverse) — unless the instance transform swaps handedness:
+//!   pbrt-v4 flips normals for a swapping render-from-object transform but
+//!   not for a swapping instance transform, so flattening would turn the
+//!   normals of its quadrics.
+//! - Instances of an object without shapes are skipped with a warning
+//!   (pbrt-v4 skips them silently).
+//! - Area lights inside objects: the scene builder already warned, as
+//!   pbrt-v4 does, and the shapes do not emit.
+//! - Animated instance transforms (pbrt-v4 supports them through
+//!   `ActiveTransform`/`TransformTimes`) are not supported yet: an error.
+
+use super::description::{SceneDescription, Shape};
+use crate::error::{scene_error, Result};
+use crate::math::Transform;
+use pbrt_parser::Warning;
+
+/// A shape and where its primitives go.
+pub struct ShapePlacement<'a> {
+    pub shape: &'a Shape,
+    /// For a flattened instance: render-from-instance, applied after the
+    /// shape's render-from-object.
+    pub render_from_instance: Option<Transform>,
+    /// 0: the top level; `k + 1`: instanced object `k`.
+    pub group: usize,
+}
+
+/// The shapes in group order (top level first, then each instanced object)
+/// and the instances.
+pub struct InstancePlan<'a> {
+    pub placements: Vec<ShapePlacement<'a>>,
+    /// How many instanced objects (groups `1..=object_count`).
+    pub object_count: usize,
+    /// (instanced object, render-from-instance), one per `ObjectInstance`
+    /// of an object used more than once.
+    pub instances: Vec<(u32, Transform)>,
+}
+
+/// Plans the scene's shapes and instances.
+pub fn plan<'a>(
+    scene: &'a SceneDescription,
+    render_from_world: &Transform,
+    warnings: &mut Vec<Warning>,
+) -> Result<InstancePlan<'a>> {
+    let world_from_render = render_from_world.inverse();
+    let mut uses = vec![0usize; scene.objects.len()];
+    let mut warned = vec![false; scene.objects.len()];
+    for instance in &scene.instances {
+        if scene.transform(instance.world_from_instance).is_animated() {
+            return scene_error(
+                "animated object instances (ActiveTransform/TransformTimes motion blur) are not supported yet",
+                &instance.location.0,
+            );
+        }
+        let object = &scene.objects[instance.object];
+        if object.shapes.is_empty() {
+            if !std::mem::replace(&mut warned[instance.object], true) {
+                warnings.push(Warning {
+                    message: format!(
+                        "object \"{}\" has no shapes; its instances are skipped",
+                        object.name
+                    ),
+                    location: instance.location.0.clone(),
+                });
+            }
+            continue;
+        }
+        uses[instance.object] += 1;
+    }
+
+    let mut placements: Vec<ShapePlacement> = scene
+        .shapes
+        .iter()
+        .map(|shape| ShapePlacement {
+            shape,
+            render_from_instance: None,
+            group: 0,
+        })
+        .collect();
+    let mut slot = vec![None; scene.objects.len()];
+    let mut object_count = 0;
+    let mut instances = Vec::new();
+    for instance in &scene.instances {
+        let object = &scene.objects[instance.object];
+        let render_from_instance = render_from_world
+            .then(&scene.transform(instance.world_from_instance).start)
+            .then(&world_from_render);
+        match uses[instance.object] {
+            0 => {}
+            1 if !render_from_instance.swaps_handedness() => {
+                placements.extend(object.shapes.iter().map(|shape| ShapePlacement {
+                    shape,
+                    render_from_instance: Some(render_from_instance),
+                    group: 0,
+                }))
+            }
+            _ => {
+                let k = *slot[instance.object].get_or_insert_with(|| {
+                    object_count += 1;
+                    object_count - 1
+                });
+                instances.push((k as u32, render_from_instance));
+            }
+        }
+    }
+    // Instanced objects' shapes, grouped by object.
+    let mut by_slot: Vec<(usize, usize)> = slot
+        .iter()
+        .enumerate()
+        .filter_map(|(object, k)| k.map(|k| (k, object)))
+        .collect();
+    by_slot.sort_unstable();
+    for (k, object) in by_slot {
+        placements.extend(
+            scene.objects[object]
+                .shapes
+                .iter()
+                .map(|shape| ShapePlacement {
+                    shape,
+                    render_from_instance: None,
+                    group: k + 1,
+                }),
+        );
+    }
+    Ok(InstancePlan {
+        placements,
+        object_count,
+        instances,
+    })
+}

@@ -1,0 +1,113 @@
+//! The dual hair model's scene parameters: each invalid value stops with
+//! its own message at the parameter's file:line:col; valid ones build.
+
+use rpbrt::scene::{self, build::RenderOverrides};
+use std::path::Path;
+
+const HEADER: &str = "Camera \"perspective\"\nWorldBegin\n";
+
+fn build(material: &str) -> Result<(), String> {
+    let text = format!("{HEADER}{material}\nShape \"curve\" \"point3 P\" [ 0 0 0  1 0 0  2 0 0  3 0 0 ] \"float width\" 0.1\n");
+    let loaded = scene::load_text(Path::new("hair.pbrt"), &text).map_err(|e| e.to_string())?;
+    scene::build::build(&loaded.scene, &RenderOverrides::default())
+        .map(|_| ())
+        .map_err(|e| e.to_string())
+}
+
+#[test]
+fn invalid_dual_hair_parameters_name_their_location() {
+    let cases = [
+        (
+            "Material \"hair\" \"float ellipse_a\" 30",
+            "3:17",
+            "must be given together",
+        ),
+        (
+            "Material \"hair\" \"float ellipse_a\" 20 \"float ellipse_b\" 30",
+            "3:17",
+            "semi-major axis",
+        ),
+        (
+            "Material \"hair\" \"float ellipse_a\" -3 \"float ellipse_b\" -4",
+            "3:17",
+            "must be positive",
+        ),
+        (
+            "Material \"hair\" \"float ellipse_a\" 30 \"float ellipse_b\" 0",
+            "3:38",
+            "must be positive",
+        ),
+        (
+            "Material \"hair\" \"float ellipse_a\" 1e39 \"float ellipse_b\" 20",
+            "3:17",
+            "\"ellipse_a\" must be finite",
+        ),
+        (
+            "Material \"hair\" \"float d_diff\" 1.5",
+            "3:17",
+            "\"d_diff\" must be in [0, 1]",
+        ),
+        (
+            "Material \"hair\" \"string diffraction\" \"sinc\"",
+            "3:17",
+            "\"diffraction\" must be one of",
+        ),
+        (
+            "Material \"hair\" \"string variant\" \"fast\"",
+            "3:17",
+            "\"variant\" must be one of",
+        ),
+        (
+            "Material \"hair\" \"string internal_fresnel\" \"f2\"",
+            "3:17",
+            "\"internal_fresnel\" must be one of",
+        ),
+    ];
+    for (material, at, message) in cases {
+        let err = build(material).expect_err(material);
+        let first = err.lines().next().unwrap_or("");
+        assert!(
+            first.starts_with(&format!("hair.pbrt:{at}:")),
+            "{material}: {err}"
+        );
+        assert!(first.contains(message), "{material}: {err}");
+    }
+}
+
+#[test]
+fn valid_dual_hair_parameters_build() {
+    for material in [
+        "Material \"hair\"",
+        "Material \"hair\" \"float ellipse_a\" 30 \"float ellipse_b\" 20 \"float d_diff\" 0.4",
+        "Material \"hair\" \"float ellipse_a\" 25 \"float ellipse_b\" 25 \"string internal_fresnel\" \"paper\"",
+        "Material \"hair\" \"float ellipse_a\" 37.5 \"float ellipse_b\" 25 \"string diffraction\" \"spectral\" \"string variant\" \"paper\" \"float ellipse_orientation\" 30",
+        "Material \"hair\" \"float d_diff\" 1",
+    ] {
+        build(material).unwrap_or_else(|e| panic!("{material}: {e}"));
+    }
+}
+
+/// The curve of a dual-model fibre is (1 + d_diff) × the written width (the
+/// diffracting outer cylinder); a circular pbrt fibre keeps its width.
+#[test]
+fn curves_widen_by_the_diffracting_cylinder() {
+    let width_of = |material: &str| {
+        let text = format!("{HEADER}{material}\nShape \"curve\" \"point3 P\" [ 0 0 0  1 0 0  2 0 0  3 0 0 ] \"float width\" 0.1\n");
+        let loaded = scene::load_text(Path::new("hair.pbrt"), &text).expect("loads");
+        let built =
+            scene::build::build(&loaded.scene, &RenderOverrides::default()).expect("builds");
+        built.shapes.curve_segments[0].width
+    };
+    let plain = width_of("Material \"hair\"");
+    let dual = width_of(
+        "Material \"hair\" \"float ellipse_a\" 30 \"float ellipse_b\" 20 \"float d_diff\" 0.4",
+    );
+    assert!(
+        (plain[0] - 0.1).abs() < 1e-6 && (plain[1] - 0.1).abs() < 1e-6,
+        "{plain:?}"
+    );
+    assert!(
+        (dual[0] - 0.14).abs() < 1e-6 && (dual[1] - 0.14).abs() < 1e-6,
+        "{dual:?}"
+    );
+}
