@@ -10,6 +10,7 @@
 //! child process timed from spawn to exit (its whole process).
 
 use super::plot::{log_log_plot, Series, BLUE, ORANGE};
+use super::steal::StealClock;
 use crate::error::Error;
 use crate::image::Image;
 use crate::pipeline::render_file;
@@ -71,8 +72,12 @@ pub struct Run {
     pub renderer: Renderer,
     pub spp: u32,
     pub seed: i32,
-    /// Whole render, wall clock (see the module description).
+    /// Whole render, wall clock less the time the virtual machine's CPUs
+    /// were stolen meanwhile (see [`super::steal`]); curves and ratios use
+    /// this.
     pub seconds: f64,
+    /// Of the wall clock, the time lost to steal.
+    pub stolen_seconds: f64,
     /// rpbrt only: reading the scene, and building it (shapes, BVH).
     pub parse_seconds: Option<f64>,
     pub build_seconds: Option<f64>,
@@ -132,7 +137,8 @@ pub fn measure(m: &Measurement) -> Result<Vec<Run>, Error> {
                 let seed = seed(k);
                 bar.set_message(format!("{} {spp} spp seed {seed}", renderer.name()));
                 let out = renders.join(format!("{}-{spp}spp-seed{seed}.exr", renderer.name()));
-                let (seconds, parse_seconds, build_seconds) = match (renderer, m.pbrt) {
+                let steal = StealClock::now();
+                let (wall_seconds, parse_seconds, build_seconds) = match (renderer, m.pbrt) {
                     (Renderer::Pbrt, Some(pbrt)) => {
                         (run_pbrt(pbrt, m, spp, seed, &out)?, None, None)
                     }
@@ -153,6 +159,7 @@ pub fn measure(m: &Measurement) -> Result<Vec<Run>, Error> {
                         )
                     }
                 };
+                let stolen_seconds = steal.stolen_since(&StealClock::now()).min(wall_seconds);
                 let image = Image::read(&out)?;
                 if (image.width(), image.height()) != (reference.width(), reference.height()) {
                     return Err(Error::Usage(format!(
@@ -169,7 +176,8 @@ pub fn measure(m: &Measurement) -> Result<Vec<Run>, Error> {
                     renderer,
                     spp,
                     seed,
-                    seconds,
+                    seconds: wall_seconds - stolen_seconds,
+                    stolen_seconds,
                     parse_seconds,
                     build_seconds,
                     mrse: mrse(&image.rgb_data(), &reference_rgb),
@@ -280,16 +288,18 @@ pub fn time_at_error(points: &[(f64, f64)], error: f64) -> Option<(f64, bool)> {
 
 /// `convergence.csv`: one line per render.
 pub fn csv(runs: &[Run]) -> String {
-    let mut text = String::from("renderer,spp,seed,seconds,parse_seconds,build_seconds,mrse\n");
+    let mut text =
+        String::from("renderer,spp,seed,seconds,stolen_seconds,parse_seconds,build_seconds,mrse\n");
     let opt = |v: Option<f64>| v.map_or(String::new(), |v| format!("{v:.4}"));
     for r in runs {
         let _ = writeln!(
             text,
-            "{},{},{},{:.4},{},{},{:.6e}",
+            "{},{},{},{:.4},{:.4},{},{},{:.6e}",
             r.renderer.name(),
             r.spp,
             r.seed,
             r.seconds,
+            r.stolen_seconds,
             opt(r.parse_seconds),
             opt(r.build_seconds),
             r.mrse
@@ -396,6 +406,7 @@ mod tests {
             spp,
             seed: 1,
             seconds,
+            stolen_seconds: 0.5,
             parse_seconds: None,
             build_seconds: None,
             mrse,
@@ -406,6 +417,6 @@ mod tests {
             [(1, 1.0, 0.5), (4, 3.0, 0.30000000000000004)]
         );
         assert!(curve(&runs, Renderer::Pbrt).is_empty());
-        assert!(csv(&runs).starts_with("renderer,spp,seed,seconds,parse_seconds,build_seconds,mrse\nrpbrt,4,1,2.0000,,,2.000000e-1\n"));
+        assert!(csv(&runs).starts_with("renderer,spp,seed,seconds,stolen_seconds,parse_seconds,build_seconds,mrse\nrpbrt,4,1,2.0000,0.5000,,,2.000000e-1\n"));
     }
 }

@@ -13,3 +13,4 @@ pub mod peak_memory;
 pub mod plot;
 pub mod render_scene;
 pub mod report;
+pub mod steal;
