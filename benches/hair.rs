@@ -1,6 +1,9 @@
 //! Hair BSDF cost per call: pbrt-v4's circular fibre against the dual
 //! model (elliptical fibre, logistic and spectral diffraction), for
-//! value, sample and pdf over a fixed set of (h, ωo, ωi).
+//! value, sample and pdf over a fixed set of (h, ωo, ωi), and for what a
+//! path vertex asks of it: make the BxDF for its ωo (the dual model traces
+//! the cross-section then), evaluate and weigh a light sample (f, pdf),
+//! sample the next direction.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use glam::{Vec2, Vec3};
@@ -40,6 +43,11 @@ fn inputs() -> Vec<(f32, Vec3, Vec3, f32, Vec2)> {
 }
 
 fn make(kind: &str, h: f32) -> BxDF {
+    make_for(kind, h, None)
+}
+
+/// The BxDF, with its cross-section trace done for `wo` when given.
+fn make_for(kind: &str, h: f32, wo: Option<Vec3>) -> BxDF {
     let sigma = SampledSpectrum([0.4, 0.6, 0.9, 1.3]);
     let base = HairBxDF::new(h, 1.55, sigma, 0.3, 0.3, 2.0);
     let params = |diffraction| DualHairParams {
@@ -53,18 +61,18 @@ fn make(kind: &str, h: f32) -> BxDF {
     let lambda = [430.0, 520.0, 600.0, 680.0];
     match kind {
         "circular pbrt" => BxDF::Hair(base),
-        "elliptical logistic" => BxDF::DualHair(DualHairBxDF::new(
-            base,
-            params(Diffraction::Logistic),
-            0.4,
-            lambda,
-        )),
-        _ => BxDF::DualHair(DualHairBxDF::new(
-            base,
-            params(Diffraction::Spectral),
-            0.4,
-            lambda,
-        )),
+        _ => {
+            let diffraction = if kind == "elliptical logistic" {
+                Diffraction::Logistic
+            } else {
+                Diffraction::Spectral
+            };
+            let dual = DualHairBxDF::new(base, params(diffraction), 0.4, lambda);
+            BxDF::DualHair(match wo {
+                Some(wo) => dual.with_outgoing(wo),
+                None => dual,
+            })
+        }
     }
 }
 
@@ -90,6 +98,16 @@ fn hair(c: &mut Criterion) {
         g.bench_function(format!("{kind}/sample_f"), |b| {
             b.iter(|| {
                 for (x, i) in bxdfs.iter().zip(&inputs) {
+                    black_box(x.sample_f(i.1, i.3, i.4, mode, all));
+                }
+            })
+        });
+        g.bench_function(format!("{kind}/vertex: make + f + pdf + sample_f"), |b| {
+            b.iter(|| {
+                for i in &inputs {
+                    let x = make_for(kind, i.0, Some(i.1));
+                    black_box(x.f(i.1, i.2, mode));
+                    black_box(x.pdf(i.1, i.2, mode, all));
                     black_box(x.sample_f(i.1, i.3, i.4, mode, all));
                 }
             })

@@ -38,7 +38,7 @@ pub struct HairBxDF {
 }
 
 /// A sampled direction.
-#[derive(Clone, Copy, Debug)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HairSample {
     pub f: SampledSpectrum,
     pub wi: Vec3,

@@ -393,12 +393,15 @@ impl Material {
                         } else {
                             r.z.atan2(r.y)
                         };
-                        BxDF::DualHair(DualHairBxDF::new(
-                            base,
-                            *params,
-                            reference + orientation,
-                            lambda.lambda,
-                        ))
+                        BxDF::DualHair(
+                            DualHairBxDF::new(
+                                base,
+                                *params,
+                                reference + orientation,
+                                lambda.lambda,
+                            )
+                            .with_outgoing(probe.render_to_local(si.wo)),
+                        )
                     }
                 }
             }

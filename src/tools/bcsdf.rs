@@ -228,9 +228,12 @@ fn write_png(m: &Maps, path: &PathBuf) -> Result<(), String> {
         .map_err(|e| format!("{}: {e}", path.display()))
 }
 
-/// Fig. 7: the spectral integral per CIE channel and the fitted logistic
-/// (our κ/D and the paper's Eq. 36) around the forward direction, at
-/// φ_i = 50°; CSV columns `delta,x,y,z,logistic_fit,logistic_eq36`.
+/// Fig. 7: the spectral integral per linear sRGB channel and the fitted
+/// logistic (our κ/D and the paper's Eq. 36) around the forward direction,
+/// at φ_i = 50°; CSV columns `delta,r,g,b,logistic_fit,logistic_eq36`.
+/// Each channel weights the wavelengths by its colour-matching function
+/// (the CIE 1931 functions taken to linear sRGB), clipped at 0 where it
+/// is negative so that the weighted mean stays a density.
 fn spectral_plot(args: &BcsdfArgs) -> Result<(), String> {
     use crate::bxdfs::hair_diffraction::{eq36_scale, fitted_scale};
     let params = args.params()?;
@@ -242,23 +245,23 @@ fn spectral_plot(args: &BcsdfArgs) -> Result<(), String> {
             let delta = -span + 2.0 * span * k as f32 / (n - 1) as f32;
             [
                 delta,
-                spectral_integral(delta, d_um, cie_x),
-                spectral_integral(delta, d_um, cie_y),
-                spectral_integral(delta, d_um, cie_z),
+                spectral_integral(delta, d_um, |l| srgb_matching(l).x),
+                spectral_integral(delta, d_um, |l| srgb_matching(l).y),
+                spectral_integral(delta, d_um, |l| srgb_matching(l).z),
                 trimmed_logistic(delta, fitted_scale(d_um), -PI, PI),
                 trimmed_logistic(delta, eq36_scale(d_um * 1e-6), -PI, PI),
             ]
         })
         .collect();
     if let Some(path) = &args.csv {
-        let mut s = String::from("delta,x,y,z,logistic_fit,logistic_eq36\n");
+        let mut s = String::from("delta,r,g,b,logistic_fit,logistic_eq36\n");
         for r in &rows {
             let _ = writeln!(s, "{},{},{},{},{},{}", r[0], r[1], r[2], r[3], r[4], r[5]);
         }
         std::fs::write(path, s).map_err(|e| format!("{}: {e}", path.display()))?;
     }
     if let Some(path) = &args.png {
-        // Three panels (x̄, ȳ, z̄): the integral in its colour, the fit in
+        // Three panels (R, G, B): the integral in its colour, the fit in
         // black.
         let (w, h, gap) = (n as u32, 200u32, 4u32);
         let mut img = image::RgbImage::from_pixel(3 * w + 2 * gap, h, image::Rgb([255, 255, 255]));
@@ -284,6 +287,13 @@ fn spectral_plot(args: &BcsdfArgs) -> Result<(), String> {
             .map_err(|e| format!("{}: {e}", path.display()))?;
     }
     Ok(())
+}
+
+/// The linear sRGB colour-matching functions at λ (nm), clipped at 0.
+fn srgb_matching(lambda: f32) -> glam::Vec3 {
+    let srgb = crate::spectrum::color_space::get(crate::scene::description::ColorSpaceName::Srgb);
+    srgb.to_rgb(glam::Vec3::new(cie_x(lambda), cie_y(lambda), cie_z(lambda)))
+        .max(glam::Vec3::ZERO)
 }
 
 /// Runs the tool.

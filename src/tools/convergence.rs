@@ -329,6 +329,49 @@ pub fn plot(title: &str, runs: &[Run], extra: Vec<Series>) -> Result<Image, Erro
     Ok(log_log_plot(title, "seconds", "MRSE", &series)?)
 }
 
+/// Reads back what [`csv`] wrote (the report's `--reuse`).
+pub fn parse_csv(text: &str) -> Result<Vec<Run>, String> {
+    let mut lines = text.lines();
+    let header = lines.next().unwrap_or_default();
+    if header != "renderer,spp,seed,seconds,stolen_seconds,parse_seconds,build_seconds,mrse" {
+        return Err(format!(
+            "not a convergence.csv of this version (header {header:?})"
+        ));
+    }
+    lines
+        .enumerate()
+        .map(|(i, line)| {
+            let bad = || format!("line {}: cannot read {line:?}", i + 2);
+            let f: Vec<&str> = line.split(',').collect();
+            if f.len() != 8 {
+                return Err(bad());
+            }
+            let number = |s: &str| s.parse::<f64>().map_err(|_| bad());
+            let optional = |s: &str| {
+                if s.is_empty() {
+                    Ok(None)
+                } else {
+                    number(s).map(Some)
+                }
+            };
+            Ok(Run {
+                renderer: match f[0] {
+                    "rpbrt" => Renderer::Rpbrt,
+                    "pbrt-v4" => Renderer::Pbrt,
+                    _ => return Err(bad()),
+                },
+                spp: f[1].parse().map_err(|_| bad())?,
+                seed: f[2].parse().map_err(|_| bad())?,
+                seconds: number(f[3])?,
+                stolen_seconds: number(f[4])?,
+                parse_seconds: optional(f[5])?,
+                build_seconds: optional(f[6])?,
+                mrse: number(f[7])?,
+            })
+        })
+        .collect()
+}
+
 /// Writes `convergence.csv` and `convergence.png` into `out`.
 pub fn write_results(
     out: &Path,
@@ -418,5 +461,9 @@ mod tests {
         );
         assert!(curve(&runs, Renderer::Pbrt).is_empty());
         assert!(csv(&runs).starts_with("renderer,spp,seed,seconds,stolen_seconds,parse_seconds,build_seconds,mrse\nrpbrt,4,1,2.0000,0.5000,,,2.000000e-1\n"));
+        let back = parse_csv(&csv(&runs)).unwrap();
+        assert_eq!(back.len(), 3);
+        assert_eq!((back[1].spp, back[1].seconds, back[1].mrse), (1, 1.0, 0.5));
+        assert!(parse_csv("renderer,spp\n").is_err());
     }
 }

@@ -51,6 +51,12 @@ pub struct ReportArgs {
     /// Where renders and CSV files go.
     #[arg(long, default_value = "target/performance")]
     pub work: PathBuf,
+    /// Take each scene's renders from the CSV an earlier run left in
+    /// `--work` instead of rendering again (the dual-model table and peak
+    /// memory are measured anew): to rewrite the report after a change to
+    /// the dual model or to the report itself.
+    #[arg(long)]
+    pub reuse: bool,
     /// Samples per pixel of the dual-model (Table 2) renders.
     #[arg(long, default_value_t = 64)]
     pub dual_spp: u32,
@@ -248,10 +254,14 @@ pub fn run(args: &ReportArgs) -> Result<(), Error> {
             spp.dedup();
         }
         let work = args.work.join(name);
-        eprintln!(
-            "{name}: rendering at {spp:?} spp, {} seeds each",
-            args.repeat
-        );
+        if args.reuse {
+            eprintln!("{name}: the renders of the previous run");
+        } else {
+            eprintln!(
+                "{name}: rendering at {spp:?} spp, {} seeds each",
+                args.repeat
+            );
+        }
         let m = Measurement {
             scene: &scene,
             reference: &reference,
@@ -262,7 +272,16 @@ pub fn run(args: &ReportArgs) -> Result<(), Error> {
             out: &work,
             progress: true,
         };
-        let runs = match convergence::measure(&m) {
+        let previous = work.join("convergence.csv");
+        let measured = if args.reuse {
+            std::fs::read_to_string(&previous)
+                .map_err(|e| e.to_string())
+                .and_then(|text| convergence::parse_csv(&text))
+                .map_err(|e| Error::Usage(format!("--reuse: {}: {e}", previous.display())))
+        } else {
+            convergence::measure(&m)
+        };
+        let runs = match measured {
             Ok(runs) => runs,
             Err(e) => {
                 eprintln!("{name}: skipped: {e}");
@@ -299,59 +318,147 @@ pub fn run(args: &ReportArgs) -> Result<(), Error> {
     Ok(())
 }
 
-/// The dual-model overhead table (the paper's Table 2 form): the shipped
-/// dual-model hair scene and its circular twin, timed the same way.
+/// `"float width" w` → `"float width" factor·w` throughout a scene text
+/// (the strands file writes one width per curve).
+fn scale_widths(text: &str, factor: f64) -> Result<String, Error> {
+    const KEY: &str = "\"float width\" ";
+    let mut out = String::with_capacity(text.len());
+    let mut rest = text;
+    while let Some(i) = rest.find(KEY) {
+        out.push_str(&rest[..i + KEY.len()]);
+        rest = &rest[i + KEY.len()..];
+        let end = rest.find(char::is_whitespace).unwrap_or(rest.len());
+        let width: f64 = rest[..end].parse().map_err(|_| {
+            Error::Usage(format!(
+                "scale_widths: expected a bare number after {KEY}, found {:?}",
+                &rest[..end]
+            ))
+        })?;
+        let _ = write!(out, "{}", width * factor);
+        rest = &rest[end..];
+    }
+    out.push_str(rest);
+    Ok(out)
+}
+
+/// The dual-model overhead table (the paper's Table 2 form). Variants of
+/// the shipped circular scene `pbrt-scenes/hair-dual-circular.pbrt` (pbrt-v4's
+/// hair) differ only in the material's dual-model parameters; d_diff = 1
+/// doubles the curves' width (the diffracting cylinder), so it is also
+/// compared with circular hair on strands of that doubled width: the
+/// model's own cost at equal geometry. Renders are interleaved (each seed
+/// renders every variant in turn) so that drift in the machine's speed
+/// falls on all alike.
 fn dual_model_section(args: &ReportArgs, threads: usize) -> Result<String, Error> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("pbrt-scenes");
-    let (dual, circular) = (
-        root.join("hair-dual.pbrt"),
-        root.join("hair-dual-circular.pbrt"),
-    );
+    let circular = root.join("hair-dual-circular.pbrt");
+    let strands = root.join("hair-dual-strands.pbrt");
     let mut text = String::from("## Dual model overhead (the paper's Table 2)\n\n");
-    if !dual.exists() || !circular.exists() {
+    let (Ok(scene_text), Ok(strands_text)) = (
+        std::fs::read_to_string(&circular),
+        std::fs::read_to_string(&strands),
+    ) else {
         let _ = writeln!(
             text,
-            "Not measured: `pbrt-scenes/hair-dual.pbrt` and its circular twin `pbrt-scenes/hair-dual-circular.pbrt` \
-             are not in this checkout yet (the dual model's issue adds them). `rpbrt report` fills this table once they exist."
+            "Not measured: `pbrt-scenes/hair-dual-circular.pbrt` or `pbrt-scenes/hair-dual-strands.pbrt` is missing."
         );
         return Ok(text);
-    }
+    };
     let work = args.work.join("dual");
     std::fs::create_dir_all(&work).map_err(io_error(&work))?;
-    let time = |scene: &Path, label: &str| -> Result<f64, Error> {
-        let mut seconds = Vec::new();
-        for k in 0..args.repeat.max(1) {
+    let wide_strands = work.join("strands-doubled-width.pbrt");
+    std::fs::write(&wide_strands, scale_widths(&strands_text, 2.0)?)
+        .map_err(io_error(&wide_strands))?;
+    const MATERIAL: &str =
+        "Material \"hair\" \"float eumelanin\" [ 0.8 ] \"float beta_m\" [ 0.25 ]";
+    if !scene_text.contains(MATERIAL) {
+        return Err(Error::Usage(format!(
+            "{}: its material line changed; update the report",
+            circular.display()
+        )));
+    }
+    // (label, extra material parameters, strands file)
+    let variants: [(&str, &str, &Path); 5] = [
+        ("circular (pbrt-v4's hair)", "", &strands),
+        ("elliptical a = 30, b = 20 µm, no diffraction", "\"float ellipse_a\" 30 \"float ellipse_b\" 20", &strands),
+        ("circular, curves 2× wide", "", &wide_strands),
+        (
+            "dual: elliptical + d_diff = 1, logistic diffraction",
+            "\"float ellipse_a\" 30 \"float ellipse_b\" 20 \"float d_diff\" 1",
+            &strands,
+        ),
+        (
+            "dual: elliptical + d_diff = 1, spectral diffraction",
+            "\"float ellipse_a\" 30 \"float ellipse_b\" 20 \"float d_diff\" 1 \"string diffraction\" \"spectral\"",
+            &strands,
+        ),
+    ];
+    let mut scenes = Vec::new();
+    for (i, (_, extra, strands_file)) in variants.iter().enumerate() {
+        let include = std::path::absolute(strands_file).map_err(io_error(strands_file))?;
+        let body = scene_text
+            .replace(MATERIAL, &format!("{MATERIAL} {extra}"))
+            .replace(
+                "Include \"hair-dual-strands.pbrt\"",
+                &format!("Include \"{}\"", include.display()),
+            );
+        let path = work.join(format!("variant-{i}.pbrt"));
+        std::fs::write(&path, body).map_err(io_error(&path))?;
+        scenes.push(path);
+    }
+    let mut seconds: Vec<Vec<f64>> = vec![Vec::new(); variants.len()];
+    for k in 0..args.repeat.max(1) {
+        for (i, scene) in scenes.iter().enumerate() {
             let overrides = RenderOverrides {
                 spp: Some(args.dual_spp),
                 seed: Some(100 + k as i32),
-                outfile: Some(work.join(format!("{label}-{k}.exr"))),
+                outfile: Some(work.join(format!("variant-{i}-{k}.exr"))),
                 ..Default::default()
             };
             let (start, steal) = (Instant::now(), StealClock::now());
             render_file(scene, &overrides, threads, false)?;
             let wall = start.elapsed().as_secs_f64();
-            seconds.push(wall - steal.stolen_since(&StealClock::now()).min(wall));
+            seconds[i].push(wall - steal.stolen_since(&StealClock::now()).min(wall));
         }
-        Ok(median(seconds).unwrap_or(0.0))
-    };
-    let circular_s = time(&circular, "circular")?;
-    let dual_s = time(&dual, "dual")?;
+    }
+    let medians: Vec<f64> = seconds
+        .into_iter()
+        .map(|s| median(s).unwrap_or(0.0))
+        .collect();
     let _ = writeln!(
         text,
-        "Whole-render seconds (median of {} seeds, {} spp, {threads} threads), rpbrt only; the paper's Table 2 compares \
-         its dual model with the circular, ray-only model of [CBTB16] in the same way.\n",
+        "Whole-render seconds (median of {} seeds, {} spp, {threads} threads, steal removed), rpbrt only, on \
+         `pbrt-scenes/hair-dual-circular.pbrt` with the material's dual-model parameters varied (the paper's Table 2 \
+         compares its dual model with the circular, ray-only model of [CBTB16] in the same way). d_diff = 1 doubles \
+         the curves' width, so more of the image is hair; the last column compares those rows with circular hair on \
+         curves of that doubled width, which isolates the model's own cost.\n",
         args.repeat.max(1),
         args.dual_spp
     );
     let _ = writeln!(
         text,
-        "| scene | circular model (pbrt-v4's hair) | dual model | overhead |\n|---|---|---|---|"
+        "| material | seconds | vs circular | vs circular at equal geometry |\n|---|---|---|---|"
     );
-    let _ = writeln!(
-        text,
-        "| `hair-dual.pbrt` vs `hair-dual-circular.pbrt` | {circular_s:.2} s | {dual_s:.2} s | {:.2}× |",
-        dual_s / circular_s.max(1e-9)
-    );
+    for (i, (label, extra, _)) in variants.iter().enumerate() {
+        let equal_geometry = if extra.contains("d_diff") {
+            medians[2]
+        } else if i == 2 {
+            f64::NAN
+        } else {
+            medians[0]
+        };
+        let _ = writeln!(
+            text,
+            "| {label} | {:.2} | {:.3}× | {} |",
+            medians[i],
+            medians[i] / medians[0].max(1e-9),
+            if equal_geometry.is_nan() {
+                "—".to_string()
+            } else {
+                format!("{:.3}×", medians[i] / equal_geometry.max(1e-9))
+            }
+        );
+    }
     Ok(text)
 }
 
@@ -375,7 +482,12 @@ fn markdown(args: &ReportArgs, results: &[SceneResult], skipped: &[String], dual
         args.repeat.max(1),
         args.max_spp.map_or(String::new(), |m| format!(
             " — **trial run capped at {m} spp: these figures are not comparable with pbrt-v4's**"
-        ))
+        )) + if args.reuse {
+            " (the scenes' renders taken from the previous run's CSV files with `--reuse`; the \
+             dual-model table and peak memory measured at this commit)"
+        } else {
+            ""
+        }
     );
     let _ = writeln!(
         t,
@@ -526,6 +638,14 @@ fn markdown(args: &ReportArgs, results: &[SceneResult], skipped: &[String], dual
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn widths_scale() {
+        let text = "Shape \"curve\" \"float width\" 0.012\nShape \"curve\" \"float width\" 0.5 \"point3 P\" []\n";
+        let scaled = super::scale_widths(text, 2.0).unwrap();
+        assert_eq!(scaled, "Shape \"curve\" \"float width\" 0.024\nShape \"curve\" \"float width\" 1 \"point3 P\" []\n");
+        assert!(super::scale_widths("\"float width\" [ 1 ]", 2.0).is_err());
+    }
 
     #[test]
     fn reads_the_refs_table() {
