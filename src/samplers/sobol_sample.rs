@@ -9,25 +9,59 @@ use super::ONE_MINUS_EPSILON;
 /// Coordinate `dimension` (below [`SOBOL_DIMENSIONS`]; larger ones wrap) of
 /// Sobol' point `index` (below 2^52; higher bits are ignored), scrambled.
 pub fn sobol_sample(index: u64, dimension: usize, scrambler: BinaryScrambler) -> f32 {
-    let first_column = (dimension % SOBOL_DIMENSIONS) * SOBOL_MATRIX_SIZE;
-    let columns = &SOBOL_MATRICES_32[first_column..first_column + SOBOL_MATRIX_SIZE];
-    let mut remaining = index & ((1u64 << SOBOL_MATRIX_SIZE) - 1);
-    let mut bits = 0u32;
-    let mut column = 0;
-    while remaining != 0 {
-        if remaining & 1 != 0 {
-            bits ^= columns[column];
-        }
-        remaining >>= 1;
-        column += 1;
-    }
-    let bits = scrambler.scramble(bits);
+    let bits = scrambler.scramble(sobol_bits(index, dimension % SOBOL_DIMENSIONS));
     (bits as f32 * TWO_TO_MINUS_32).min(ONE_MINUS_EPSILON)
+}
+
+/// The unscrambled product of the index with the dimension's matrix. It
+/// is the sampler's hottest loop (a quarter of a render's time before it
+/// skipped the index's zero bits), so: dimension 0's matrix is the bit
+/// reversal (van der Corput; its columns past the 32nd are zero), and for
+/// the others only the index's set bits are visited.
+#[inline]
+fn sobol_bits(index: u64, dimension: usize) -> u32 {
+    let mut remaining = index & ((1u64 << SOBOL_MATRIX_SIZE) - 1);
+    if dimension == 0 {
+        return (remaining as u32).reverse_bits();
+    }
+    let first_column = dimension * SOBOL_MATRIX_SIZE;
+    let columns = &SOBOL_MATRICES_32[first_column..first_column + SOBOL_MATRIX_SIZE];
+    let mut bits = 0u32;
+    while remaining != 0 {
+        bits ^= columns[remaining.trailing_zeros() as usize];
+        remaining &= remaining - 1;
+    }
+    bits
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The matrix product as the definition states it, column by column.
+    #[test]
+    fn fast_product_is_the_matrix_product() {
+        let mut state = 0x2545_f491_4f6c_dd1du64;
+        for _ in 0..20000 {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            let index = state >> (state % 40);
+            let dimension = (state % 1031) as usize % SOBOL_DIMENSIONS;
+            let dimension = if state % 5 == 0 { 0 } else { dimension };
+            let mut expected = 0u32;
+            for j in 0..SOBOL_MATRIX_SIZE {
+                if index >> j & 1 == 1 {
+                    expected ^= column(dimension, j);
+                }
+            }
+            assert_eq!(
+                sobol_bits(index, dimension),
+                expected,
+                "index {index:#x} dimension {dimension}"
+            );
+        }
+    }
 
     fn column(dimension: usize, j: usize) -> u32 {
         SOBOL_MATRICES_32[dimension * SOBOL_MATRIX_SIZE + j]
