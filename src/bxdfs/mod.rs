@@ -169,9 +169,13 @@ mod tests {
 
     #[test]
     fn the_enum_stays_small_enough_to_pass_by_value() {
-        // Per-intersection values: keep them in a few cache lines.
+        // Per-intersection values: keep them in a few cache lines. The
+        // largest is the dual hair model, which carries its cross-section
+        // trace for the hit's ωo (~90 bytes) so that f, pdf and sample do
+        // not trace again: a path vertex costs 1.49 µs with it against
+        // 3 traces without (benches/hair.rs).
         assert!(
-            std::mem::size_of::<BxDF>() <= 128,
+            std::mem::size_of::<BxDF>() <= 256,
             "{}",
             std::mem::size_of::<BxDF>()
         );
