@@ -72,6 +72,7 @@ pub struct ReferenceRow {
     /// pbrt-v4's time as rendered (other work may have shared the machine).
     pub rendered_seconds: f64,
     pub mrse: f64,
+    pub block_bias: Option<f64>,
 }
 
 /// The figures table of `../shared/refs/README.md`: rows of `| scene |
@@ -95,6 +96,7 @@ pub fn parse_reference_table(readme: &str) -> Vec<ReferenceRow> {
                 quiet_seconds: cells[3].parse().ok(),
                 rendered_seconds: cells[4].parse().ok()?,
                 mrse: cells[5].parse().ok()?,
+                block_bias: cells[6].parse().ok(),
             })
         })
         .collect()
@@ -214,6 +216,32 @@ struct SceneResult {
     rows: Vec<ReferenceRow>,
     peak_mb: Option<u64>,
     plot: String,
+    /// Per rpbrt run (same order as `runs`): block bias against the
+    /// reference, from the run's saved render.
+    block_bias: Vec<Option<f64>>,
+}
+
+/// Block bias (../shared/refs/README.md) of each run's saved render
+/// against the reference; `None` where the render is not there.
+fn block_biases(work: &Path, reference: &Path, runs: &[Run]) -> Vec<Option<f64>> {
+    let Ok(reference) = crate::image::Image::read(reference) else {
+        return vec![None; runs.len()];
+    };
+    let (w, h) = (reference.width() as usize, reference.height() as usize);
+    let reference = reference.rgb_data();
+    runs.iter()
+        .map(|run| {
+            let path = work.join("renders").join(format!(
+                "{}-{}spp-seed{}.exr",
+                run.renderer.name(),
+                run.spp,
+                run.seed
+            ));
+            let image = crate::image::Image::read(&path).ok()?.rgb_data();
+            (image.len() == reference.len())
+                .then(|| crate::tools::imgdiff::block_bias(&image, &reference, w, h, 3, 16))
+        })
+        .collect()
 }
 
 /// Formats a ratio with the goal it is held to.
@@ -303,8 +331,10 @@ pub fn run(args: &ReportArgs) -> Result<(), Error> {
         let plot = plots.join(&plot_name);
         std::fs::copy(work.join("convergence.png"), &plot).map_err(io_error(&plot))?;
         let peak_mb = peak_memory_mb(&scene, threads, &work.join("peak-memory.exr"));
+        let block_bias = block_biases(&work, &reference, &runs);
         results.push(SceneResult {
             name: name.clone(),
+            block_bias,
             runs,
             rows,
             peak_mb,
@@ -617,6 +647,41 @@ fn markdown(args: &ReportArgs, results: &[SceneResult], skipped: &[String], dual
                 ours.map_or("—".into(), |(o, x)| ratio_text(o / s, x))
             );
         }
+        let _ = writeln!(
+            t,
+            "\nAccuracy at pbrt-v4's sample counts (pass: MRSE ≤ 1.25 × pbrt-v4's, block bias ≤ max(2 × pbrt-v4's, 0.01)):\n\n\
+             | spp | rpbrt MRSE: mean (worst seed) | pbrt-v4 MRSE | ratio of means | rpbrt block bias: worst seed | pbrt-v4 block bias | bound |\n\
+             |---|---|---|---|---|---|---|"
+        );
+        for row in &r.rows {
+            let ours: Vec<(f64, Option<f64>)> = r
+                .runs
+                .iter()
+                .zip(&r.block_bias)
+                .filter(|(run, _)| run.renderer == Renderer::Rpbrt && run.spp == row.spp)
+                .map(|(run, bias)| (run.mrse, *bias))
+                .collect();
+            if ours.is_empty() {
+                continue;
+            }
+            let mean = ours.iter().map(|o| o.0).sum::<f64>() / ours.len() as f64;
+            let worst = ours.iter().map(|o| o.0).fold(0.0, f64::max);
+            let worst_bias = ours
+                .iter()
+                .filter_map(|o| o.1)
+                .fold(None, |m: Option<f64>, b| Some(m.map_or(b, |m| m.max(b))));
+            let _ = writeln!(
+                t,
+                "| {} | {mean:.6} ({worst:.6}) | {:.6} | {:.2} | {} | {} | {} |",
+                row.spp,
+                row.mrse,
+                mean / row.mrse,
+                worst_bias.map_or("—".into(), |b| format!("{b:.5}")),
+                row.block_bias.map_or("—".into(), |b| format!("{b:.4}")),
+                row.block_bias
+                    .map_or("—".into(), |b| format!("{:.4}", (2.0 * b).max(0.01)))
+            );
+        }
         let pbrt_curve = curve(&r.runs, Renderer::Pbrt);
         if !pbrt_curve.is_empty() {
             let _ = writeln!(t, "\nSame run, against the pbrt-v4 binary:\n\n| spp | pbrt-v4 s | pbrt-v4 MRSE | rpbrt s at that MRSE | ratio |\n|---|---|---|---|---|");
@@ -661,7 +726,8 @@ mod tests {
                 spp: 64,
                 quiet_seconds: Some(2.55),
                 rendered_seconds: 5.09,
-                mrse: 0.0003927
+                mrse: 0.0003927,
+                block_bias: Some(0.0022)
             }
         );
         assert_eq!(rows[0].quiet_seconds, None);
