@@ -407,24 +407,43 @@ fn dual_model_section(args: &ReportArgs, threads: usize) -> Result<String, Error
             circular.display()
         )));
     }
-    // (label, extra material parameters, strands file)
-    let variants: [(&str, &str, &Path); 5] = [
-        ("circular (pbrt-v4's hair)", "", &strands),
-        ("elliptical a = 30, b = 20 µm, no diffraction", "\"float ellipse_a\" 30 \"float ellipse_b\" 20", &strands),
-        ("circular, curves 2× wide", "", &wide_strands),
+    // (label, extra material parameters, strands file, the row that has
+    // the same geometry: what the last column divides by)
+    const ELLIPSE: &str = "\"float ellipse_a\" 30 \"float ellipse_b\" 20";
+    let variants: [(&str, String, &Path, Option<usize>); 5] = [
+        (
+            "circular (pbrt-v4's hair)",
+            String::new(),
+            &strands,
+            Some(0),
+        ),
+        (
+            "elliptical a = 30, b = 20 µm, no diffraction",
+            ELLIPSE.into(),
+            &strands,
+            Some(0),
+        ),
+        (
+            "circular, curves 2× wide",
+            String::new(),
+            &wide_strands,
+            None,
+        ),
         (
             "dual: elliptical + d_diff = 1, logistic diffraction",
-            "\"float ellipse_a\" 30 \"float ellipse_b\" 20 \"float d_diff\" 1",
+            format!("{ELLIPSE} \"float d_diff\" 1"),
             &strands,
+            Some(2),
         ),
         (
             "dual: elliptical + d_diff = 1, spectral diffraction",
-            "\"float ellipse_a\" 30 \"float ellipse_b\" 20 \"float d_diff\" 1 \"string diffraction\" \"spectral\"",
+            format!("{ELLIPSE} \"float d_diff\" 1 \"string diffraction\" \"spectral\""),
             &strands,
+            Some(2),
         ),
     ];
     let mut scenes = Vec::new();
-    for (i, (_, extra, strands_file)) in variants.iter().enumerate() {
+    for (i, (_, extra, strands_file, _)) in variants.iter().enumerate() {
         let include = std::path::absolute(strands_file).map_err(io_error(strands_file))?;
         let body = scene_text
             .replace(MATERIAL, &format!("{MATERIAL} {extra}"))
@@ -469,24 +488,16 @@ fn dual_model_section(args: &ReportArgs, threads: usize) -> Result<String, Error
         text,
         "| material | seconds | vs circular | vs circular at equal geometry |\n|---|---|---|---|"
     );
-    for (i, (label, extra, _)) in variants.iter().enumerate() {
-        let equal_geometry = if extra.contains("d_diff") {
-            medians[2]
-        } else if i == 2 {
-            f64::NAN
-        } else {
-            medians[0]
-        };
+    for (i, (label, _, _, same_geometry)) in variants.iter().enumerate() {
         let _ = writeln!(
             text,
             "| {label} | {:.2} | {:.3}× | {} |",
             medians[i],
             medians[i] / medians[0].max(1e-9),
-            if equal_geometry.is_nan() {
-                "—".to_string()
-            } else {
-                format!("{:.3}×", medians[i] / equal_geometry.max(1e-9))
-            }
+            same_geometry.map_or("—".to_string(), |j| format!(
+                "{:.3}×",
+                medians[i] / medians[j].max(1e-9)
+            ))
         );
     }
     Ok(text)
