@@ -9,8 +9,9 @@
 //! scene), so process start-up (a few ms) is not counted. pbrt-v4 runs as a
 //! child process timed from spawn to exit (its whole process).
 
+use super::io_error;
 use super::plot::{log_log_plot, Series, BLUE, ORANGE};
-use super::steal::StealClock;
+use super::steal::time_without_steal;
 use crate::error::Error;
 use crate::image::Image;
 use crate::pipeline::render_file;
@@ -19,7 +20,6 @@ use crate::tools::imgdiff::mrse;
 use indicatif::{ProgressBar, ProgressStyle};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 /// Render a scene at several sample counts and plot its error (MRSE
 /// against the reference) over its time, log–log.
@@ -99,15 +99,8 @@ pub struct Measurement<'a> {
 
 /// The seed of the `k`-th repeat; away from the seeds the shared
 /// references were rendered with (1 and 2).
-fn seed(k: u32) -> i32 {
+pub(crate) fn seed(k: u32) -> i32 {
     100 + k as i32
-}
-
-fn io_error(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
-    move |source| Error::Io {
-        path: path.display().to_string(),
-        source,
-    }
 }
 
 /// Renders every (renderer, spp, seed) and measures time and MRSE.
@@ -137,29 +130,23 @@ pub fn measure(m: &Measurement) -> Result<Vec<Run>, Error> {
                 let seed = seed(k);
                 bar.set_message(format!("{} {spp} spp seed {seed}", renderer.name()));
                 let out = renders.join(format!("{}-{spp}spp-seed{seed}.exr", renderer.name()));
-                let steal = StealClock::now();
-                let (wall_seconds, parse_seconds, build_seconds) = match (renderer, m.pbrt) {
-                    (Renderer::Pbrt, Some(pbrt)) => {
-                        (run_pbrt(pbrt, m, spp, seed, &out)?, None, None)
-                    }
-                    _ => {
-                        let overrides = RenderOverrides {
-                            spp: Some(spp),
-                            seed: Some(seed),
-                            outfile: Some(out.clone()),
-                            ..Default::default()
-                        };
-                        let start = Instant::now();
-                        let report = render_file(m.scene, &overrides, m.threads, false)?;
-                        let seconds = start.elapsed().as_secs_f64();
-                        (
-                            seconds,
-                            Some(report.parse.as_secs_f64()),
-                            Some(report.build.as_secs_f64()),
-                        )
-                    }
-                };
-                let stolen_seconds = steal.stolen_since(&StealClock::now()).min(wall_seconds);
+                let (timings, seconds, stolen_seconds) =
+                    time_without_steal(|| match (renderer, m.pbrt) {
+                        (Renderer::Pbrt, Some(pbrt)) => {
+                            run_pbrt(pbrt, m, spp, seed, &out).map(|()| (None, None))
+                        }
+                        _ => {
+                            let overrides = RenderOverrides {
+                                spp: Some(spp),
+                                seed: Some(seed),
+                                outfile: Some(out.clone()),
+                                ..Default::default()
+                            };
+                            render_file(m.scene, &overrides, m.threads, false)
+                                .map(|r| (Some(r.parse.as_secs_f64()), Some(r.build.as_secs_f64())))
+                        }
+                    });
+                let (parse_seconds, build_seconds) = timings?;
                 let image = Image::read(&out)?;
                 if (image.width(), image.height()) != (reference.width(), reference.height()) {
                     return Err(Error::Usage(format!(
@@ -176,7 +163,7 @@ pub fn measure(m: &Measurement) -> Result<Vec<Run>, Error> {
                     renderer,
                     spp,
                     seed,
-                    seconds: wall_seconds - stolen_seconds,
+                    seconds,
                     stolen_seconds,
                     parse_seconds,
                     build_seconds,
@@ -191,13 +178,12 @@ pub fn measure(m: &Measurement) -> Result<Vec<Run>, Error> {
 }
 
 /// Runs pbrt-v4 from the scene's folder (as the shared references were
-/// made); returns its whole-process seconds.
-fn run_pbrt(pbrt: &Path, m: &Measurement, spp: u32, seed: i32, out: &Path) -> Result<f64, Error> {
+/// made).
+fn run_pbrt(pbrt: &Path, m: &Measurement, spp: u32, seed: i32, out: &Path) -> Result<(), Error> {
     let absolute = |p: &Path| std::path::absolute(p).map_err(io_error(p));
     let scene = absolute(m.scene)?;
     let out = absolute(out)?;
     let folder = scene.parent().unwrap_or(Path::new("."));
-    let start = Instant::now();
     let output = std::process::Command::new(pbrt)
         .current_dir(folder)
         .args([
@@ -212,7 +198,6 @@ fn run_pbrt(pbrt: &Path, m: &Measurement, spp: u32, seed: i32, out: &Path) -> Re
         .arg(&scene)
         .output()
         .map_err(io_error(pbrt))?;
-    let seconds = start.elapsed().as_secs_f64();
     if !output.status.success() {
         return Err(Error::Usage(format!(
             "{} failed ({}): {}",
@@ -221,7 +206,7 @@ fn run_pbrt(pbrt: &Path, m: &Measurement, spp: u32, seed: i32, out: &Path) -> Re
             String::from_utf8_lossy(&output.stderr).trim()
         )));
     }
-    Ok(seconds)
+    Ok(())
 }
 
 /// A renderer's curve: per sample count, the mean seconds and mean MRSE

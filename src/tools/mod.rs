@@ -14,3 +14,13 @@ pub mod plot;
 pub mod render_scene;
 pub mod report;
 pub mod steal;
+
+/// Maps an I/O error on `path` to the crate's error, naming the path.
+pub(crate) fn io_error(
+    path: &std::path::Path,
+) -> impl Fn(std::io::Error) -> crate::error::Error + '_ {
+    move |source| crate::error::Error::Io {
+        path: path.display().to_string(),
+        source,
+    }
+}

@@ -11,14 +11,14 @@
 //! `docs/performance-notes.md`, which the report links to.
 
 use super::convergence::{self, curve, time_at_error, Measurement, Renderer, Run};
+use super::io_error;
 use super::plot::{Series, ORANGE};
-use super::steal::StealClock;
+use super::steal::time_without_steal;
 use crate::error::Error;
 use crate::pipeline::render_file;
 use crate::scene::build::RenderOverrides;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
-use std::time::Instant;
 
 /// Measure every shared reference scene against pbrt-v4 and write the
 /// performance report. Takes tens of minutes at the default settings: run
@@ -100,13 +100,6 @@ pub fn parse_reference_table(readme: &str) -> Vec<ReferenceRow> {
             })
         })
         .collect()
-}
-
-fn io_error(path: &Path) -> impl Fn(std::io::Error) -> Error + '_ {
-    move |source| Error::Io {
-        path: path.display().to_string(),
-        source,
-    }
 }
 
 /// The CPU model and the number of cores this process may use.
@@ -460,14 +453,14 @@ fn dual_model_section(args: &ReportArgs, threads: usize) -> Result<String, Error
         for (i, scene) in scenes.iter().enumerate() {
             let overrides = RenderOverrides {
                 spp: Some(args.dual_spp),
-                seed: Some(100 + k as i32),
+                seed: Some(convergence::seed(k)),
                 outfile: Some(work.join(format!("variant-{i}-{k}.exr"))),
                 ..Default::default()
             };
-            let (start, steal) = (Instant::now(), StealClock::now());
-            render_file(scene, &overrides, threads, false)?;
-            let wall = start.elapsed().as_secs_f64();
-            seconds[i].push(wall - steal.stolen_since(&StealClock::now()).min(wall));
+            let (rendered, time, _) =
+                time_without_steal(|| render_file(scene, &overrides, threads, false));
+            rendered?;
+            seconds[i].push(time);
         }
     }
     let medians: Vec<f64> = seconds

@@ -37,6 +37,16 @@ impl StealClock {
     }
 }
 
+/// Runs `work` and times it: (its result, wall seconds less the time
+/// stolen meanwhile, the stolen seconds).
+pub fn time_without_steal<T>(work: impl FnOnce() -> T) -> (T, f64, f64) {
+    let (start, steal) = (std::time::Instant::now(), StealClock::now());
+    let result = work();
+    let wall = start.elapsed().as_secs_f64();
+    let stolen = steal.stolen_since(&StealClock::now()).min(wall);
+    (result, wall - stolen, stolen)
+}
+
 /// The aggregate `cpu` line's 8th value (steal) and the number of `cpuN`
 /// lines.
 fn parse_proc_stat(text: &str) -> Option<StealClock> {
