@@ -22,6 +22,8 @@ const LARGE_BUILD: usize = 1 << 20;
 pub struct Bvh {
     tree: Option<CwBvh>,
     bounds: Bounds3,
+    /// Added to a leaf's slot to give the caller's primitive index.
+    first: usize,
 }
 
 impl Bvh {
@@ -43,6 +45,7 @@ impl Bvh {
                 Bvh {
                     tree: None,
                     bounds: total,
+                    first: first as usize,
                 },
                 Vec::new(),
             );
@@ -62,13 +65,15 @@ impl Bvh {
             BvhBuildParams::medium_build()
         };
         let mut tree = build_cwbvh(&aabbs, params, &mut build_time);
+        // Leaves index the caller's reordered array directly: slot i is
+        // the caller's primitive `first + i` (no index array to read per
+        // primitive).
         let order = std::mem::take(&mut tree.primitive_indices);
-        // Leaves now index the caller's reordered array directly.
-        tree.primitive_indices = (first..first + order.len() as u32).collect();
         (
             Bvh {
                 tree: Some(tree),
                 bounds: total,
+                first: first as usize,
             },
             order,
         )
@@ -102,18 +107,12 @@ impl Bvh {
         let tree = self.tree.as_ref()?;
         let mut hit = RayHit::none();
         let found = tree.ray_traverse(Self::obvhs_ray(ray, t_max), &mut hit, |r, i| {
-            let index = tree.primitive_indices[i] as usize;
-            match intersect(index, r.tmax) {
+            match intersect(self.first + i, r.tmax) {
                 Some(t) if t > 0.0 && t < r.tmax => t,
                 _ => f32::INFINITY,
             }
         });
-        found.then(|| {
-            (
-                tree.primitive_indices[hit.primitive_id as usize] as usize,
-                hit.t,
-            )
-        })
+        found.then(|| (self.first + hit.primitive_id as usize, hit.t))
     }
 
     /// Whether any primitive is hit before `t_max`.
@@ -122,7 +121,7 @@ impl Bvh {
             return false;
         };
         !tree.ray_traverse_miss(Self::obvhs_ray(ray, t_max), |r, i| {
-            if hits(tree.primitive_indices[i] as usize, r.tmax) {
+            if hits(self.first + i, r.tmax) {
                 // Any distance below t_max ends the traversal (finite even
                 // for an unbounded ray).
                 0.5 * r.tmax.min(f32::MAX)

@@ -80,6 +80,12 @@ pub struct BuiltScene {
     /// Object instances (their primitives follow the top level's in
     /// `primitives`).
     pub instances: InstanceAccel,
+    /// For each primitive, its curve piece if it is a curve without an
+    /// alpha cutout, else [`NOT_A_CURVE`]; empty in a scene without
+    /// curves. The pieces are stored in this order, so a BVH leaf's pieces
+    /// are neighbours in memory: a ray tests them without reading the
+    /// primitives.
+    curve_of_primitive: Vec<u32>,
     pub materials: Vec<Material>,
     pub lights: Vec<Light>,
     pub infinite_lights: Vec<usize>,
@@ -116,17 +122,17 @@ impl BuiltScene {
         let frame = crate::shapes::curve::RayFrame::new(ray)?;
         let mut best = None;
         bvh.closest_hit(ray, t_max, |i, t_max| {
+            if let Some(c) = self.curve_without_alpha(i) {
+                let (piece, segment) = self.shapes.curve(c);
+                let hit = piece.intersect_in(segment, &frame, t_max)?;
+                best = Some(Best::Curve(hit, c, i));
+                return Some(hit.t);
+            }
             let prim = &self.primitives[i];
             if let Some(alpha) = prim.alpha {
                 let (si, t) = self.intersect_cut_out(prim, alpha, ray, t_max)?;
                 best = Some(Best::Full(si, i));
                 return Some(t);
-            }
-            if let Shape::Curve(c) = prim.shape {
-                let (piece, segment) = self.shapes.curve(c);
-                let hit = piece.intersect_in(segment, &frame, t_max)?;
-                best = Some(Best::Curve(hit, c, i));
-                return Some(hit.t);
             }
             let hit = prim.shape.intersect(&self.shapes, ray, t_max)?;
             let t = hit.t_hit;
@@ -151,13 +157,28 @@ impl BuiltScene {
 
     /// Whether any primitive of one BVH lies on `ray` before `t_max`.
     fn intersect_p_bvh(&self, bvh: &Bvh, ray: &Ray, t_max: f32) -> bool {
+        let frame = crate::shapes::curve::RayFrame::new(ray);
         bvh.any_hit(ray, t_max, |i, t_max| {
+            if let (Some(c), Some(frame)) = (self.curve_without_alpha(i), &frame) {
+                let (piece, segment) = self.shapes.curve(c);
+                return piece.intersect_in(segment, frame, t_max).is_some();
+            }
             let prim = &self.primitives[i];
             match prim.alpha {
                 Some(alpha) => self.intersect_cut_out(prim, alpha, ray, t_max).is_some(),
                 None => prim.shape.intersect_p(&self.shapes, ray, t_max),
             }
         })
+    }
+
+    /// The curve piece of primitive `i`, if it is a curve without an alpha
+    /// cutout.
+    #[inline]
+    fn curve_without_alpha(&self, i: usize) -> Option<u32> {
+        self.curve_of_primitive
+            .get(i)
+            .copied()
+            .filter(|&c| c != NOT_A_CURVE)
     }
 
     /// The closest hit of a primitive with an alpha cutout (and its t along
@@ -423,10 +444,11 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
         .map(|g| group_ends[g - 1]..group_ends[g])
         .collect();
     let (bvh, objects, order) = build_levels(&bounds, group_ends[0], &object_ranges);
-    let primitives: Vec<Primitive> = order
+    let mut primitives: Vec<Primitive> = order
         .iter()
         .map(|&i| primitives[i as usize].clone())
         .collect();
+    let curve_of_primitive = order_curve_pieces(&mut primitives, &mut shapes);
     let instances = if plan.instances.is_empty() {
         InstanceAccel::empty()
     } else {
@@ -468,6 +490,7 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
         primitives,
         bvh,
         instances,
+        curve_of_primitive,
         materials,
         lights,
         infinite_lights,
@@ -475,6 +498,36 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
         alpha_textures,
         warnings,
     })
+}
+
+/// In `BuiltScene::curve_of_primitive`: the primitive is not a curve (or
+/// has an alpha cutout).
+const NOT_A_CURVE: u32 = u32::MAX;
+
+/// Stores the curve pieces in the order of `primitives` (BVH order) and
+/// returns `BuiltScene::curve_of_primitive`.
+fn order_curve_pieces(primitives: &mut [Primitive], shapes: &mut ShapeStorage) -> Vec<u32> {
+    if shapes.curve_pieces.is_empty() {
+        return Vec::new();
+    }
+    let mut pieces = Vec::with_capacity(shapes.curve_pieces.len());
+    let curve_of_primitive = primitives
+        .iter_mut()
+        .map(|prim| {
+            let Shape::Curve(c) = &mut prim.shape else {
+                return NOT_A_CURVE;
+            };
+            pieces.push(shapes.curve_pieces[*c as usize]);
+            *c = pieces.len() as u32 - 1;
+            if prim.alpha.is_some() {
+                NOT_A_CURVE
+            } else {
+                *c
+            }
+        })
+        .collect();
+    shapes.curve_pieces = pieces;
+    curve_of_primitive
 }
 
 fn integrator_settings(scene: &SceneDescription) -> Result<IntegratorSettings> {

@@ -63,18 +63,34 @@ pub struct CurveSegment {
 }
 
 /// A piece [u0, u1] of a segment: the BVH primitive.
+///
+/// One cache line holds all a ray needs to reject it (most of the pieces
+/// a ray's traversal reaches): the segment, twice that size, is read only
+/// for a ray that passes the piece's hull test.
 #[derive(Clone, Copy, Debug)]
+#[repr(C, align(64))]
 pub struct CurvePiece {
-    /// Index of the segment in the scene's curve segments.
-    pub segment: u32,
-    pub u0: f32,
-    pub u1: f32,
     /// The piece's own Bézier control points (blossomed).
     pub cp: [Vec3; 4],
-    /// Halvings still needed per ray before the piece is flat enough for
-    /// one closest point (0 for almost all hair).
-    pub refine_depth: u8,
+    pub u0: f32,
+    pub u1: f32,
+    /// Half the largest width over [u0, u1] (kept in step with the
+    /// segment's widths by `ShapeStorage::scale_curve_widths`).
+    pub half_width: f32,
+    /// The segment's index (low bits) and the halvings still needed per
+    /// ray before the piece is flat enough for one closest point (high
+    /// bits; 0 for almost all hair).
+    segment_and_depth: u32,
 }
+
+const _: () = assert!(std::mem::size_of::<CurvePiece>() == 64);
+
+/// Bits of `CurvePiece::segment_and_depth` holding the segment index.
+const SEGMENT_BITS: u32 = 28;
+
+/// The most curve segments a scene may have (the index shares 32 bits
+/// with the refinement depth).
+pub const MAX_SEGMENTS: usize = (1 << SEGMENT_BITS) - 1;
 
 /// Point and derivative of a cubic Bézier at u (de Casteljau).
 pub fn evaluate_bezier(cp: &[Vec3; 4], u: f32) -> (Vec3, Vec3) {
@@ -129,13 +145,39 @@ impl CurveSegment {
 }
 
 impl CurvePiece {
+    fn new(segment: u32, u0: f32, u1: f32, cp: [Vec3; 4], refine_depth: u32, width: [f32; 2]) -> Self {
+        debug_assert!((segment as usize) <= MAX_SEGMENTS && refine_depth < 16);
+        CurvePiece {
+            cp,
+            u0,
+            u1,
+            half_width: 0.5 * width[0].max(width[1]),
+            segment_and_depth: segment | (refine_depth << SEGMENT_BITS),
+        }
+    }
+
+    /// Index of the segment in the scene's curve segments.
+    pub fn segment(&self) -> u32 {
+        self.segment_and_depth & ((1 << SEGMENT_BITS) - 1)
+    }
+
+    /// Halvings still needed per ray before the piece is flat enough for
+    /// one closest point.
+    pub fn refine_depth(&self) -> u8 {
+        (self.segment_and_depth >> SEGMENT_BITS) as u8
+    }
+
+    /// Re-reads the piece's width from its (rescaled) segment.
+    pub fn update_width(&mut self, segment: &CurveSegment) {
+        self.half_width = 0.5 * segment.width_at(self.u0).max(segment.width_at(self.u1));
+    }
+
     /// Bounds: the control points' box grown by half the largest width.
-    pub fn bounds(&self, segment: &CurveSegment) -> Bounds3 {
-        let w = segment.width_at(self.u0).max(segment.width_at(self.u1)) * 0.5;
+    pub fn bounds(&self) -> Bounds3 {
         let b = Bounds3::from_points(self.cp);
         Bounds3 {
-            min: b.min - Vec3::splat(w),
-            max: b.max + Vec3::splat(w),
+            min: b.min - Vec3::splat(self.half_width),
+            max: b.max + Vec3::splat(self.half_width),
         }
     }
 
@@ -152,21 +194,44 @@ impl CurvePiece {
         frame: &RayFrame,
         t_max: f32,
     ) -> Option<CurveHit> {
+        // The control polygon's hull (which contains a Bézier curve) first:
+        // most pieces a ray reaches are rejected without reading `segment`.
         let c = self.cp.map(|p| frame.project(p));
+        if !hull_may_hit(&c, self.half_width, frame.length * t_max) {
+            return None;
+        }
         intersect_projected(
             segment,
             frame,
             t_max,
             &c,
             (self.u0, self.u1),
-            self.refine_depth,
+            self.refine_depth(),
         )
     }
 }
 
+/// Whether control points `c` in a ray's frame, grown sideways by
+/// `half_width`, reach the ray (x = y = 0) between depth 0 and `z_max`.
+#[inline]
+fn hull_may_hit(c: &[Vec3; 4], half_width: f32, z_max: f32) -> bool {
+    let (mut lo, mut hi) = (c[0], c[0]);
+    for p in &c[1..] {
+        lo = lo.min(*p);
+        hi = hi.max(*p);
+    }
+    lo.x <= half_width
+        && hi.x >= -half_width
+        && lo.y <= half_width
+        && hi.y >= -half_width
+        && hi.z >= 0.0
+        && lo.z <= z_max
+}
+
 /// The hit of the ray with the sub-curve `c` (control points in the ray's
-/// frame) spanning `[u0, u1]` of its segment, after `refine_depth` more
-/// halvings (the closer of the two halves' hits).
+/// frame, their hull already known to meet the ray) spanning `[u0, u1]` of
+/// its segment, after `refine_depth` more halvings (the closer of the two
+/// halves' hits).
 fn intersect_projected(
     segment: &CurveSegment,
     frame: &RayFrame,
@@ -175,26 +240,19 @@ fn intersect_projected(
     (u0, u1): (f32, f32),
     refine_depth: u8,
 ) -> Option<CurveHit> {
-    // Cheap rejections on the control polygon's hull (a Bézier curve
-    // lies inside it): too far from the ray sideways, or in depth.
-    let half_width = 0.5 * segment.width_at(u0).max(segment.width_at(u1));
-    let (mut lo, mut hi) = (c[0], c[0]);
-    for p in &c[1..] {
-        lo = lo.min(*p);
-        hi = hi.max(*p);
-    }
-    if lo.x > half_width || hi.x < -half_width || lo.y > half_width || hi.y < -half_width {
-        return None;
-    }
-    if hi.z < 0.0 || lo.z > frame.length * t_max {
-        return None;
-    }
     if refine_depth > 0 {
+        // Each half is tried only if its own, tighter hull meets the ray.
+        let half = |c: &[Vec3; 4], (a, b): (f32, f32), t_max: f32| {
+            let half_width = 0.5 * segment.width_at(a).max(segment.width_at(b));
+            if !hull_may_hit(c, half_width, frame.length * t_max) {
+                return None;
+            }
+            intersect_projected(segment, frame, t_max, c, (a, b), refine_depth - 1)
+        };
         let (first, second) = split_in_half(c);
         let mid = 0.5 * (u0 + u1);
-        let near = intersect_projected(segment, frame, t_max, &first, (u0, mid), refine_depth - 1);
-        let t_max = near.map_or(t_max, |h| h.t);
-        let far = intersect_projected(segment, frame, t_max, &second, (mid, u1), refine_depth - 1);
+        let near = half(&first, (u0, mid), t_max);
+        let far = half(&second, (mid, u1), near.map_or(t_max, |h| h.t));
         return far.or(near);
     }
 
@@ -522,6 +580,12 @@ pub fn create_curves(
             flip_normal,
             reference: [Vec3::ZERO; 2],
         };
+        if segments.len() >= MAX_SEGMENTS {
+            return scene_error(
+                format!("too many curve segments: a scene may have at most {MAX_SEGMENTS}"),
+                loc,
+            );
+        }
         let segment_index = segments.len() as u32;
         split_into_pieces(&segment, segment_index, split_depth, pieces);
         segments.push(segment);
@@ -554,13 +618,14 @@ fn split_into_pieces(
         } else {
             0
         };
-        pieces.push(CurvePiece {
-            segment: index,
+        pieces.push(CurvePiece::new(
+            index,
             u0,
             u1,
             cp,
-            refine_depth: refine_depth as u8,
-        });
+            refine_depth,
+            [segment.width_at(u0), segment.width_at(u1)],
+        ));
     }
 }
 
@@ -714,7 +779,7 @@ mod tests {
             });
             let w = 0.05 + 0.2 * rnd();
             let (s, pieces) = segment_split(cp, w, CurveType::Flat, split_depth);
-            refined += pieces.iter().filter(|p| p.refine_depth > 0).count();
+            refined += pieces.iter().filter(|p| p.refine_depth() > 0).count();
             for _ in 0..50 {
                 let target = evaluate_bezier(&cp, 0.05 + 0.9 * rnd()).0
                     + Vec3::new(0.0, rnd() - 0.5, rnd() - 0.5) * w;

@@ -79,19 +79,20 @@ impl ShapeStorage {
         let mut last = None;
         for shape in shapes {
             if let Shape::Curve(c) = shape {
-                let segment = self.curve_pieces[*c as usize].segment;
-                if last != Some(segment) {
-                    let s = &mut self.curve_segments[segment as usize];
-                    s.width = s.width.map(|w| w * scale);
-                    last = Some(segment);
+                let piece = &mut self.curve_pieces[*c as usize];
+                let segment = &mut self.curve_segments[piece.segment() as usize];
+                if last != Some(piece.segment()) {
+                    segment.width = segment.width.map(|w| w * scale);
+                    last = Some(piece.segment());
                 }
+                piece.update_width(segment);
             }
         }
     }
 
     pub fn curve(&self, piece: u32) -> (&curve::CurvePiece, &curve::CurveSegment) {
         let p = &self.curve_pieces[piece as usize];
-        (p, &self.curve_segments[p.segment as usize])
+        (p, &self.curve_segments[p.segment() as usize])
     }
 }
 
@@ -207,10 +208,7 @@ impl Shape {
             Shape::Cylinder(c) => c.bounds(),
             Shape::Triangle(t) => t.bounds(t.mesh_of(storage)),
             Shape::BilinearPatch(b) => b.bounds(b.mesh_of(storage)),
-            Shape::Curve(c) => {
-                let (piece, segment) = storage.curve(*c);
-                piece.bounds(segment)
-            }
+            Shape::Curve(c) => storage.curve_pieces[*c as usize].bounds(),
         }
     }
 
@@ -537,6 +535,34 @@ mod tests {
         let _ = std::fs::remove_dir_all(&dir);
         std::fs::create_dir_all(&dir).unwrap();
         dir
+    }
+
+    /// Widening a curve (the dual hair model's outer cylinder) widens the
+    /// pieces the BVH bounds and the rays' hull tests use, not only the
+    /// segments.
+    #[test]
+    fn scaled_curve_widths_reach_the_pieces() {
+        let dir = temporary_directory("widen");
+        let (shapes, mut storage, _) = create_all(
+            &dir,
+            r#"Shape "curve" "string type" "cylinder" "point3 P" [0 0 0 1 0 0 2 0 0 3 0 0] "float width" 0.2"#,
+        );
+        let shapes = shapes.unwrap();
+        // A ray along -z passing 0.15 off the axis: outside the width 0.2,
+        // inside the doubled width 0.4.
+        let ray = Ray::new(Vec3::new(1.5, 0.15, 5.0), Vec3::new(0.0, 0.0, -1.0), 0.0);
+        let hits = |storage: &ShapeStorage| {
+            shapes
+                .iter()
+                .filter(|s| s.intersect_p(storage, &ray, f32::INFINITY))
+                .count()
+        };
+        assert_eq!(hits(&storage), 0);
+        let narrow = shapes[0].bounds(&storage);
+        storage.scale_curve_widths(&shapes, 2.0);
+        assert!(hits(&storage) > 0);
+        let wide = shapes[0].bounds(&storage);
+        assert!((wide.max.y - narrow.max.y - 0.1).abs() < 1e-6, "{narrow:?} {wide:?}");
     }
 
     #[test]
