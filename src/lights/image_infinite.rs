@@ -17,8 +17,9 @@ use crate::math::equal_area::{
     equal_area_sphere_to_square, equal_area_square_to_sphere, wrap_equal_area_square,
 };
 use crate::samplers::distribution::{Domain2D, PiecewiseConstant2D};
-use crate::spectrum::color_space::{RgbColorSpace, SpectrumKind};
-use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use crate::spectrum::color_space::RgbColorSpace;
+use crate::spectrum::{DenselySampled, RgbSigmoidPolynomial, SampledSpectrum, SampledWavelengths};
+use std::sync::Arc;
 use glam::{IVec2, Mat4, Vec2, Vec3};
 use std::f32::consts::PI;
 
@@ -27,6 +28,14 @@ pub struct ImageInfiniteLight {
     pub light_from_render: Mat4,
     /// Linear RGB, row-major, top row first; width = height = resolution.
     pub rgb: Vec<[f32; 3]>,
+    /// Each texel's illuminant spectrum (scale and sigmoid polynomial of
+    /// [`RgbColorSpace::illuminant_coefficients`]), computed once: a
+    /// lookup evaluates it without building a spectrum (whose shared
+    /// reference to the illuminant both render threads would count up
+    /// and down on every lookup).
+    texels: Vec<(f32, RgbSigmoidPolynomial)>,
+    /// The colour space's illuminant, which the texels' spectra modulate.
+    illuminant: Arc<DenselySampled>,
     pub resolution: i32,
     pub color_space: &'static RgbColorSpace,
     pub scale: f32,
@@ -54,10 +63,16 @@ impl ImageInfiniteLight {
             comp.fill(1.0);
         }
         let compensated = PiecewiseConstant2D::new(&comp, n, n, domain);
+        let texels = rgb
+            .iter()
+            .map(|&c| color_space.illuminant_coefficients(Vec3::from(c)))
+            .collect();
         ImageInfiniteLight {
             light_from_render: render_from_light.inverse(),
             render_from_light,
             rgb,
+            texels,
+            illuminant: Arc::clone(color_space.illuminant_densely_sampled()),
             resolution,
             color_space,
             scale,
@@ -78,12 +93,17 @@ impl ImageInfiniteLight {
         let r = self.resolution;
         let p = IVec2::new((uv.x * r as f32) as i32, (uv.y * r as f32) as i32);
         let p = wrap_equal_area_square(p, IVec2::splat(r));
-        let c = self.rgb[(p.y * r + p.x) as usize];
-        let rgb = Vec3::new(c[0].max(0.0), c[1].max(0.0), c[2].max(0.0));
-        self.color_space
-            .rgb_to_spectrum(rgb, SpectrumKind::Illuminant)
-            .sample(lambda)
-            * self.scale
+        self.texel_le((p.y * r + p.x) as usize, lambda)
+    }
+
+    /// Radiance of texel `i`: pbrt-v4's RGB illuminant spectrum of its RGB,
+    /// times the light's scale.
+    fn texel_le(&self, i: usize, lambda: &SampledWavelengths) -> SampledSpectrum {
+        let (scale, polynomial) = &self.texels[i];
+        SampledSpectrum::from_fn(|k| {
+            let l = lambda.lambda[k];
+            scale * polynomial.eval(l) * self.illuminant.eval(l)
+        }) * self.scale
     }
 
     pub fn le(&self, direction: Vec3, lambda: &SampledWavelengths) -> SampledSpectrum {
@@ -138,15 +158,11 @@ impl ImageInfiniteLight {
     /// Power: 4π² R² × the image's average radiance (over 4 wavelengths).
     pub fn phi(&self, lambda: &SampledWavelengths) -> SampledSpectrum {
         let mut sum = SampledSpectrum::ZERO;
-        for c in &self.rgb {
-            let rgb = Vec3::new(c[0].max(0.0), c[1].max(0.0), c[2].max(0.0));
-            sum += self
-                .color_space
-                .rgb_to_spectrum(rgb, SpectrumKind::Illuminant)
-                .sample(lambda);
+        for i in 0..self.texels.len() {
+            sum += self.texel_le(i, lambda);
         }
-        sum * (4.0 * PI * PI * self.scene_radius * self.scene_radius * self.scale
-            / self.rgb.len().max(1) as f32)
+        sum * (4.0 * PI * PI * self.scene_radius * self.scene_radius
+            / self.texels.len().max(1) as f32)
     }
 }
 
@@ -154,6 +170,7 @@ impl ImageInfiniteLight {
 mod tests {
     use super::*;
     use crate::scene::description::ColorSpaceName;
+    use crate::spectrum::color_space::SpectrumKind;
 
     /// A 16 × 16 environment with smoothly varying colours and one bright
     /// texel, rotated so light space differs from render space.

@@ -176,6 +176,19 @@ impl RgbColorSpace {
     }
 
     /// (2·max, coefficients of rgb / (2·max)), or black for black.
+    /// The scale and sigmoid polynomial of the illuminant spectrum
+    /// [`RgbColorSpace::rgb_to_spectrum`] gives for `rgb` (the spectrum is
+    /// scale × polynomial(λ) × the colour space's illuminant(λ)), for
+    /// callers that store them per texel instead of building a spectrum
+    /// per lookup.
+    pub fn illuminant_coefficients(&self, rgb: Vec3) -> (f32, RgbSigmoidPolynomial) {
+        self.scaled_coefficients(Vec3::new(
+            non_negative(rgb.x),
+            non_negative(rgb.y),
+            non_negative(rgb.z),
+        ))
+    }
+
     fn scaled_coefficients(&self, rgb: Vec3) -> (f32, RgbSigmoidPolynomial) {
         let scale = 2.0 * rgb.max_element();
         if scale > 0.0 && scale.is_finite() {
