@@ -1,14 +1,15 @@
 //! Hair BSDF cost per call: pbrt-v4's circular fibre against the dual
 //! model (elliptical fibre, logistic and spectral diffraction), for
 //! value, sample and pdf over a fixed set of (h, ωo, ωi), and for what a
-//! path vertex asks of it: make the BxDF for its ωo (the dual model traces
-//! the cross-section then), evaluate and weigh a light sample (f, pdf),
-//! sample the next direction.
+//! path vertex asks of it: make the BxDF for its ωo (each model computes
+//! its ωo state then: A_p and angles for the circular one, the
+//! cross-section trace for the dual), evaluate and weigh a light sample
+//! (f, pdf), sample the next direction.
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use glam::{Vec2, Vec3};
 use rpbrt::bxdfs::dual_hair::{DualHairBxDF, DualHairParams};
-use rpbrt::bxdfs::hair::HairBxDF;
+use rpbrt::bxdfs::hair::{CircularHairBxDF, HairBxDF};
 use rpbrt::bxdfs::hair_diffraction::Diffraction;
 use rpbrt::bxdfs::hair_ellipse::{Ellipse, InternalFresnel, Variant};
 use rpbrt::bxdfs::{BxDF, BxDFReflTransFlags, TransportMode};
@@ -46,7 +47,8 @@ fn make(kind: &str, h: f32) -> BxDF {
     make_for(kind, h, None)
 }
 
-/// The BxDF, with its cross-section trace done for `wo` when given.
+/// The BxDF, with its per-ω_o state (for the dual model its
+/// cross-section trace) computed for `wo` when given.
 fn make_for(kind: &str, h: f32, wo: Option<Vec3>) -> BxDF {
     let sigma = SampledSpectrum([0.4, 0.6, 0.9, 1.3]);
     let base = HairBxDF::new(h, 1.55, sigma, 0.3, 0.3, 2.0);
@@ -60,7 +62,13 @@ fn make_for(kind: &str, h: f32, wo: Option<Vec3>) -> BxDF {
     };
     let lambda = [430.0, 520.0, 600.0, 680.0];
     match kind {
-        "circular pbrt" => BxDF::Hair(base),
+        "circular pbrt" => {
+            let circular = CircularHairBxDF::new(base);
+            BxDF::Hair(match wo {
+                Some(wo) => circular.with_outgoing(wo),
+                None => circular,
+            })
+        }
         _ => {
             let diffraction = if kind == "elliptical logistic" {
                 Diffraction::Logistic

@@ -178,14 +178,32 @@ pub(crate) fn sample_longitudinal(u: Vec2, v: f32, sin_o: f32, cos_o: f32) -> (f
     (sin_theta_i, safe_sqrt(1.0 - sqr(sin_theta_i)))
 }
 
-/// Angles of ω_o needed by every lobe.
+/// What f, pdf and sampling need that depends on ω_o alone: its angles,
+/// the refracted azimuth, each lobe's tilted θ_o, the attenuations and the
+/// lobe probabilities.
+#[derive(Clone, Copy, Debug, PartialEq)]
 struct Outgoing {
     sin_theta_o: f32,
     cos_theta_o: f32,
     phi_o: f32,
     gamma_o: f32,
     gamma_t: f32,
-    t: SampledSpectrum,
+    /// (sin θ_o, cos θ_o) tilted for lobe p (untilted for the residual).
+    tilted: [(f32, f32); P_MAX + 1],
+    /// A_0…A_pMax.
+    a: [SampledSpectrum; P_MAX + 1],
+    /// Probabilities of choosing each lobe.
+    ap_pdf: [f32; P_MAX + 1],
+}
+
+/// Lobe probabilities: A_p averaged over wavelengths, normalised.
+fn ap_pdf(a: &[SampledSpectrum; P_MAX + 1]) -> [f32; P_MAX + 1] {
+    let y: [f32; P_MAX + 1] = std::array::from_fn(|i| a[i].average());
+    let sum: f32 = y.iter().sum();
+    if sum <= 0.0 {
+        return [0.25; P_MAX + 1];
+    }
+    y.map(|v| v / sum)
 }
 
 impl HairBxDF {
@@ -243,13 +261,16 @@ impl HairBxDF {
         let gamma_t = safe_asin(sin_gamma_t);
         // Transmittance of one chord through the fibre.
         let t = (-self.sigma_a * (2.0 * cos_gamma_t / cos_theta_t)).exp();
+        let a = ap(cos_theta_o, self.eta, self.h, t);
         Outgoing {
             sin_theta_o,
             cos_theta_o,
             phi_o,
             gamma_o,
             gamma_t,
-            t,
+            tilted: std::array::from_fn(|p| self.tilted(p, sin_theta_o, cos_theta_o)),
+            a,
+            ap_pdf: ap_pdf(&a),
         }
     }
 
@@ -278,20 +299,22 @@ impl HairBxDF {
     /// f(ωo, ωi): the BSDF value (already divided by |cos θ_i|, as pbrt-v4
     /// does, so that the integrator's cosine cancels).
     pub fn value(&self, wo: Vec3, wi: Vec3) -> SampledSpectrum {
-        let o = self.outgoing(wo);
+        self.value_at(&self.outgoing(wo), wi)
+    }
+
+    fn value_at(&self, o: &Outgoing, wi: Vec3) -> SampledSpectrum {
         let sin_theta_i = wi.x;
         let cos_theta_i = safe_sqrt(1.0 - sqr(sin_theta_i));
         let phi_i = wi.z.atan2(wi.y);
         let dphi = phi_i - o.phi_o;
-        let a = ap(o.cos_theta_o, self.eta, self.h, o.t);
         let mut fsum = SampledSpectrum::ZERO;
-        for (p, a_p) in a.iter().enumerate().take(P_MAX) {
-            let (sin_o, cos_o) = self.tilted(p, o.sin_theta_o, o.cos_theta_o);
+        for (p, a_p) in o.a.iter().enumerate().take(P_MAX) {
+            let (sin_o, cos_o) = o.tilted[p];
             fsum += *a_p
                 * (mp(cos_theta_i, cos_o, sin_theta_i, sin_o, self.v[p])
                     * np(dphi, p, self.s, o.gamma_o, o.gamma_t));
         }
-        fsum += a[P_MAX]
+        fsum += o.a[P_MAX]
             * (mp(
                 cos_theta_i,
                 o.cos_theta_o,
@@ -306,25 +329,16 @@ impl HairBxDF {
         fsum
     }
 
-    /// Probabilities of choosing each lobe: A_p averaged over wavelengths.
-    fn ap_pdf(&self, o: &Outgoing) -> [f32; P_MAX + 1] {
-        let a = ap(o.cos_theta_o, self.eta, self.h, o.t);
-        let y: [f32; P_MAX + 1] = std::array::from_fn(|i| a[i].average());
-        let sum: f32 = y.iter().sum();
-        if sum <= 0.0 {
-            return [0.25; P_MAX + 1];
-        }
-        y.map(|v| v / sum)
-    }
-
     /// Samples ωi: a lobe by its attenuation, θ_i from M_p, Δφ from N_p.
     /// `uc` picks the lobe (and is reused, rescaled, for N_p); `u` drives
     /// M_p.
     pub fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<HairSample> {
-        let o = self.outgoing(wo);
-        let ap_pdf = self.ap_pdf(&o);
-        let (p, uc) = choose_lobe(&ap_pdf, uc);
-        let (sin_o, cos_o) = self.tilted(p, o.sin_theta_o, o.cos_theta_o);
+        self.sample_at(&self.outgoing(wo), uc, u)
+    }
+
+    fn sample_at(&self, o: &Outgoing, uc: f32, u: Vec2) -> Option<HairSample> {
+        let (p, uc) = choose_lobe(&o.ap_pdf, uc);
+        let (sin_o, cos_o) = o.tilted[p];
         let (sin_theta_i, cos_theta_i) = sample_longitudinal(u, self.v[p], sin_o, cos_o);
         let dphi = if p < P_MAX {
             phi(p, o.gamma_o, o.gamma_t) + sample_trimmed_logistic(uc, self.s, -PI, PI)
@@ -337,28 +351,21 @@ impl HairBxDF {
             cos_theta_i * phi_i.cos(),
             cos_theta_i * phi_i.sin(),
         );
-        let pdf = self.pdf_from(&o, &ap_pdf, sin_theta_i, cos_theta_i, dphi);
+        let pdf = self.pdf_from(o, sin_theta_i, cos_theta_i, dphi);
         if !(pdf > 0.0) || !pdf.is_finite() {
             return None;
         }
         Some(HairSample {
-            f: self.value(wo, wi),
+            f: self.value_at(o, wi),
             wi,
             pdf,
         })
     }
 
-    fn pdf_from(
-        &self,
-        o: &Outgoing,
-        ap_pdf: &[f32; P_MAX + 1],
-        sin_theta_i: f32,
-        cos_theta_i: f32,
-        dphi: f32,
-    ) -> f32 {
+    fn pdf_from(&self, o: &Outgoing, sin_theta_i: f32, cos_theta_i: f32, dphi: f32) -> f32 {
         let mut pdf = 0.0;
-        for (p, &a) in ap_pdf.iter().enumerate().take(P_MAX) {
-            let (sin_o, cos_o) = self.tilted(p, o.sin_theta_o, o.cos_theta_o);
+        for (p, &a) in o.ap_pdf.iter().enumerate().take(P_MAX) {
+            let (sin_o, cos_o) = o.tilted[p];
             pdf += mp(cos_theta_i, cos_o, sin_theta_i, sin_o, self.v[p])
                 * a
                 * np(dphi, p, self.s, o.gamma_o, o.gamma_t);
@@ -369,19 +376,21 @@ impl HairBxDF {
             sin_theta_i,
             o.sin_theta_o,
             self.v[P_MAX],
-        ) * ap_pdf[P_MAX]
+        ) * o.ap_pdf[P_MAX]
             / (2.0 * PI);
         pdf
     }
 
     /// Solid-angle density with which [`Self::sample`] picks ωi.
     pub fn density(&self, wo: Vec3, wi: Vec3) -> f32 {
-        let o = self.outgoing(wo);
+        self.density_at(&self.outgoing(wo), wi)
+    }
+
+    fn density_at(&self, o: &Outgoing, wi: Vec3) -> f32 {
         let sin_theta_i = wi.x;
         let cos_theta_i = safe_sqrt(1.0 - sqr(sin_theta_i));
         let phi_i = wi.z.atan2(wi.y);
-        let ap_pdf = self.ap_pdf(&o);
-        self.pdf_from(&o, &ap_pdf, sin_theta_i, cos_theta_i, phi_i - o.phi_o)
+        self.pdf_from(o, sin_theta_i, cos_theta_i, phi_i - o.phi_o)
     }
 
     /// σ_a from eumelanin and pheomelanin concentrations, in linear sRGB
@@ -632,6 +641,55 @@ mod tests {
         }
     }
 
+    /// The BxDF made for ω_o gives f, pdf and sample_f bit for bit equal
+    /// to the uncached [`HairBxDF`], for its own ω_o (state stored) and for
+    /// another ω_o (state recomputed).
+    #[test]
+    fn stored_outgoing_state_changes_nothing() {
+        use super::super::{BxDF, BxDFReflTransFlags, TransportMode};
+        let (mode, all) = (TransportMode::Radiance, BxDFReflTransFlags::All);
+        let bits = |s: SampledSpectrum| s.0.map(f32::to_bits);
+        let mut rng = Rng(0x5eed);
+        let mut stored_samples = 0;
+        for (bm, bn, sigma_a, alpha) in [
+            (0.3, 0.3, SampledSpectrum([0.4, 0.6, 0.9, 1.3]), 2.0),
+            (0.05, 0.8, SampledSpectrum::ZERO, 0.0),
+            (0.9, 0.1, SampledSpectrum([3.0, 2.0, 1.0, 0.5]), -4.0),
+            (0.6, 0.6, SampledSpectrum::splat(0.05), 10.0),
+        ] {
+            for _ in 0..2000 {
+                let base = HairBxDF::new(-1.0 + 2.0 * rng.f(), 1.55, sigma_a, bm, bn, alpha);
+                let wo = sample_uniform_sphere(rng.v2());
+                let other = sample_uniform_sphere(rng.v2());
+                let wi = sample_uniform_sphere(rng.v2());
+                let (uc, u) = (rng.f(), rng.v2());
+                let made = BxDF::Hair(CircularHairBxDF::new(base).with_outgoing(wo));
+                for w in [wo, other] {
+                    assert_eq!(bits(made.f(w, wi, mode)), bits(base.value(w, wi)));
+                    assert_eq!(
+                        made.pdf(w, wi, mode, all).to_bits(),
+                        base.density(w, wi).to_bits()
+                    );
+                    let cached = made.sample_f(w, uc, u, mode, all);
+                    let plain = base.sample(w, uc, u);
+                    assert_eq!(cached.is_some(), plain.is_some());
+                    if let (Some(c), Some(p)) = (cached, plain) {
+                        assert_eq!(bits(c.f), bits(p.f));
+                        assert_eq!(
+                            c.wi.to_array().map(f32::to_bits),
+                            p.wi.to_array().map(f32::to_bits)
+                        );
+                        assert_eq!(c.pdf.to_bits(), p.pdf.to_bits());
+                        stored_samples += usize::from(w == wo);
+                    }
+                }
+            }
+        }
+        // Most directions sample: the comparison above was not vacuous.
+        eprintln!("{stored_samples} of 8000 samples compared with the stored state");
+        assert!(stored_samples > 7000, "{stored_samples}");
+    }
+
     #[test]
     fn sigma_a_from_reflectance_inverts_to_darker_for_darker_colours() {
         let s = HairBxDF::sigma_a_from_reflectance(SampledSpectrum([0.9, 0.5, 0.2, 0.05]), 0.3);
@@ -688,14 +746,48 @@ pub trait HairScattering {
     }
 }
 
-impl HairScattering for HairBxDF {
+/// pbrt-v4's hair BxDF as a hit holds it: a [`HairBxDF`] with its ω_o
+/// state (A_p, angles, tilts, lobe probabilities) computed once for the ω_o
+/// it was made for. A path vertex asks f, pdf and sample_f with that ω_o
+/// (pbrt-v4 recomputes the state in each); any other ω_o is computed
+/// afresh, so the values are those of [`HairBxDF`] bit for bit.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CircularHairBxDF {
+    bxdf: HairBxDF,
+    outgoing: Option<(Vec3, Outgoing)>,
+}
+
+impl CircularHairBxDF {
+    pub fn new(bxdf: HairBxDF) -> Self {
+        CircularHairBxDF {
+            bxdf,
+            outgoing: None,
+        }
+    }
+
+    /// The same BxDF with its state for `wo` (local frame) computed now.
+    pub fn with_outgoing(mut self, wo: Vec3) -> Self {
+        self.outgoing = Some((wo, self.bxdf.outgoing(wo)));
+        self
+    }
+
+    /// The state for `wo`: the stored one when `wo` is the BxDF's own.
+    fn outgoing_for(&self, wo: Vec3) -> Outgoing {
+        match &self.outgoing {
+            Some((w, o)) if *w == wo => *o,
+            _ => self.bxdf.outgoing(wo),
+        }
+    }
+}
+
+impl HairScattering for CircularHairBxDF {
     fn value(&self, wo: Vec3, wi: Vec3) -> SampledSpectrum {
-        HairBxDF::value(self, wo, wi)
+        self.bxdf.value_at(&self.outgoing_for(wo), wi)
     }
     fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<HairSample> {
-        HairBxDF::sample(self, wo, uc, u)
+        self.bxdf.sample_at(&self.outgoing_for(wo), uc, u)
     }
     fn density(&self, wo: Vec3, wi: Vec3) -> f32 {
-        HairBxDF::density(self, wo, wi)
+        self.bxdf.density_at(&self.outgoing_for(wo), wi)
     }
 }

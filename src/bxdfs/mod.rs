@@ -58,7 +58,7 @@ pub enum BxDF {
     CoatedDiffuse(CoatedDiffuseBxDF),
     CoatedConductor(CoatedConductorBxDF),
     DiffuseTransmission(DiffuseTransmissionBxDF),
-    Hair(hair::HairBxDF),
+    Hair(hair::CircularHairBxDF),
     DualHair(dual_hair::DualHairBxDF),
 }
 
@@ -170,14 +170,16 @@ mod tests {
     #[test]
     fn the_enum_stays_small_enough_to_pass_by_value() {
         // Per-intersection values: keep them in a few cache lines. The
-        // largest is the dual hair model, which carries its cross-section
-        // trace for the hit's ωo (~90 bytes) so that f, pdf and sample do
-        // not trace again: a path vertex costs 1.49 µs with it against
-        // 3 traces without (benches/hair.rs).
-        assert!(
-            std::mem::size_of::<BxDF>() <= 256,
-            "{}",
-            std::mem::size_of::<BxDF>()
+        // largest are the hair models, which carry their state for the
+        // hit's ωo (the dual model's cross-section trace, ~90 bytes; the
+        // circular model's A_p and angles, ~150 bytes) so that f, pdf and
+        // sample do not compute it again (benches/hair.rs, "vertex").
+        let size = std::mem::size_of::<BxDF>();
+        eprintln!(
+            "BxDF {size} bytes (circular hair {}, dual hair {})",
+            std::mem::size_of::<hair::CircularHairBxDF>(),
+            std::mem::size_of::<dual_hair::DualHairBxDF>()
         );
+        assert!(size <= 256, "{size}");
     }
 }

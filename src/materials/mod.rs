@@ -13,7 +13,7 @@
 //! | `interface` | none: marks a boundary between media; rays pass through |
 
 use crate::bxdfs::dual_hair::{DualHairBxDF, DualHairParams};
-use crate::bxdfs::hair::HairBxDF;
+use crate::bxdfs::hair::{CircularHairBxDF, HairBxDF};
 use crate::bxdfs::{
     BxDF, CoatedDiffuseBxDF, ConductorBxDF, DielectricBxDF, DiffuseBxDF, DiffuseTransmissionBxDF,
     ThinDielectricBxDF, TrowbridgeReitzDistribution, BSDF,
@@ -380,13 +380,17 @@ impl Material {
                 };
                 let h = -1.0 + 2.0 * si.uv.y;
                 let base = HairBxDF::new(h, eta.evaluate(ctx), sig_a, bm, bn, alpha.evaluate(ctx));
+                let circular = CircularHairBxDF::new(base);
+                // The BSDF's own frame, for ω_o in local space: both models
+                // compute what depends on ω_o alone once, here.
+                let probe = BSDF::new(si.shading.n, si.shading.dpdu, BxDF::Hair(circular));
+                let wo = probe.render_to_local(si.wo);
                 match dual {
-                    None => BxDF::Hair(base),
+                    None => BxDF::Hair(circular.with_outgoing(wo)),
                     Some((params, orientation)) => {
                         // The major axis from the strand's stable reference
                         // (the shading normal where a shape has none), in
                         // the local frame's azimuth φ = atan2(z, y).
-                        let probe = BSDF::new(si.shading.n, si.shading.dpdu, BxDF::Hair(base));
                         let r = probe.render_to_local(si.fiber_reference);
                         let reference = if r.y == 0.0 && r.z == 0.0 {
                             std::f32::consts::FRAC_PI_2
@@ -400,7 +404,7 @@ impl Material {
                                 reference + orientation,
                                 lambda.lambda,
                             )
-                            .with_outgoing(probe.render_to_local(si.wo)),
+                            .with_outgoing(wo),
                         )
                     }
                 }
