@@ -249,7 +249,7 @@ impl DualHairBxDF {
         for p in 0..LOBES {
             let (sin_o, cos_o) = self.base.tilted(p, l.sin_theta_o, l.cos_theta_o);
             let m = mp(cos_theta_i, cos_o, sin_theta_i, sin_o, self.base.v[p]);
-            let n = trimmed_logistic(wrap_angle(phi_i - phi[p]), self.base.s, -PI, PI);
+            let n = self.base.azimuthal_logistic(wrap_angle(phi_i - phi[p]));
             sum += w[p] * (m * n);
         }
         sum += w[LOBES] * (self.m_residual(l, sin_theta_i, cos_theta_i) / (2.0 * PI));
@@ -315,7 +315,7 @@ impl DualHairBxDF {
                 let (sin_o, cos_o) = self.base.tilted(p, l.sin_theta_o, l.cos_theta_o);
                 let (s, c) = sample_longitudinal(u, self.base.v[p], sin_o, cos_o);
                 let phi_i = if p < LOBES {
-                    phi[p] + sample_trimmed_logistic(uc, self.base.s, -PI, PI)
+                    phi[p] + self.base.sample_azimuthal_logistic(uc)
                 } else {
                     l.phi_o + 2.0 * PI * uc
                 };

@@ -32,6 +32,11 @@ pub struct HairBxDF {
     pub(crate) v: [f32; P_MAX + 1],
     /// Logistic scale s of N_p.
     pub(crate) s: f32,
+    /// The logistic's mass on [−π, π] and its CDF at −π for scale s: the
+    /// trimmed logistic's normalisation, which pbrt-v4 recomputes (two
+    /// exponentials) in every evaluation and sample.
+    logistic_mass: f32,
+    logistic_cdf_low: f32,
     /// sin and cos of 2^k α, k = 0, 1, 2 (cuticle tilt shifts).
     sin_2k_alpha: [f32; 3],
     cos_2k_alpha: [f32; 3],
@@ -126,8 +131,14 @@ pub(crate) fn trimmed_logistic(x: f32, s: f32, a: f32, b: f32) -> f32 {
 }
 
 pub(crate) fn sample_trimmed_logistic(u: f32, s: f32, a: f32, b: f32) -> f32 {
-    let k = logistic_cdf(b, s) - logistic_cdf(a, s);
-    let x = -s * (1.0 / (u * k + logistic_cdf(a, s)) - 1.0).ln();
+    let mass = logistic_cdf(b, s) - logistic_cdf(a, s);
+    sample_logistic_in(u, s, (a, b), mass, logistic_cdf(a, s))
+}
+
+/// Inverts the logistic's CDF on [a, b], given its `mass` there and its
+/// CDF at a.
+fn sample_logistic_in(u: f32, s: f32, (a, b): (f32, f32), mass: f32, cdf_a: f32) -> f32 {
+    let x = -s * (1.0 / (u * mass + cdf_a) - 1.0).ln();
     x.clamp(a, b)
 }
 
@@ -147,11 +158,6 @@ pub(crate) fn wrap_angle(mut x: f32) -> f32 {
     x
 }
 
-/// Azimuthal scattering N_p around lobe p's deflection.
-fn np(phi_: f32, p: usize, s: f32, gamma_o: f32, gamma_t: f32) -> f32 {
-    let dphi = phi_ - phi(p, gamma_o, gamma_t);
-    trimmed_logistic(wrap_angle(dphi), s, -PI, PI)
-}
 
 /// Picks lobe p with probability `pdf[p]` and remaps `uc` to [0, 1)
 /// within its interval (so it can drive the lobe's azimuth).
@@ -241,9 +247,27 @@ impl HairBxDF {
             sigma_a,
             v,
             s,
+            logistic_mass: logistic_cdf(PI, s) - logistic_cdf(-PI, s),
+            logistic_cdf_low: logistic_cdf(-PI, s),
             sin_2k_alpha,
             cos_2k_alpha,
         }
+    }
+
+    /// pbrt-v4's trimmed logistic on [−π, π] with scale s, its
+    /// normalisation computed once (the same value bit for bit).
+    pub(crate) fn azimuthal_logistic(&self, x: f32) -> f32 {
+        logistic(x, self.s) / self.logistic_mass
+    }
+
+    /// Samples [`HairBxDF::azimuthal_logistic`].
+    pub(crate) fn sample_azimuthal_logistic(&self, u: f32) -> f32 {
+        sample_logistic_in(u, self.s, (-PI, PI), self.logistic_mass, self.logistic_cdf_low)
+    }
+
+    /// Azimuthal scattering N_p around lobe p's deflection.
+    fn np(&self, phi_: f32, p: usize, gamma_o: f32, gamma_t: f32) -> f32 {
+        self.azimuthal_logistic(wrap_angle(phi_ - phi(p, gamma_o, gamma_t)))
     }
 
     fn outgoing(&self, wo: Vec3) -> Outgoing {
@@ -312,7 +336,7 @@ impl HairBxDF {
             let (sin_o, cos_o) = o.tilted[p];
             fsum += *a_p
                 * (mp(cos_theta_i, cos_o, sin_theta_i, sin_o, self.v[p])
-                    * np(dphi, p, self.s, o.gamma_o, o.gamma_t));
+                    * self.np(dphi, p, o.gamma_o, o.gamma_t));
         }
         fsum += o.a[P_MAX]
             * (mp(
@@ -341,7 +365,7 @@ impl HairBxDF {
         let (sin_o, cos_o) = o.tilted[p];
         let (sin_theta_i, cos_theta_i) = sample_longitudinal(u, self.v[p], sin_o, cos_o);
         let dphi = if p < P_MAX {
-            phi(p, o.gamma_o, o.gamma_t) + sample_trimmed_logistic(uc, self.s, -PI, PI)
+            phi(p, o.gamma_o, o.gamma_t) + self.sample_azimuthal_logistic(uc)
         } else {
             2.0 * PI * uc
         };
@@ -368,7 +392,7 @@ impl HairBxDF {
             let (sin_o, cos_o) = o.tilted[p];
             pdf += mp(cos_theta_i, cos_o, sin_theta_i, sin_o, self.v[p])
                 * a
-                * np(dphi, p, self.s, o.gamma_o, o.gamma_t);
+                * self.np(dphi, p, o.gamma_o, o.gamma_t);
         }
         pdf += mp(
             cos_theta_i,
