@@ -18,16 +18,21 @@ impl BSDF {
     /// orthogonal to the normal first; if it is degenerate, any tangent is
     /// used.
     pub fn new(shading_normal: Vec3, dpdus: Vec3, bxdf: BxDF) -> Self {
+        BSDF {
+            bxdf,
+            shading_frame: Self::frame(shading_normal, dpdus),
+        }
+    }
+
+    /// The shading frame [`BSDF::new`] builds (for a material that needs
+    /// local directions before it has made its BxDF).
+    pub fn frame(shading_normal: Vec3, dpdus: Vec3) -> Frame {
         let z = shading_normal.normalize();
         let x = dpdus - z * z.dot(dpdus);
-        let shading_frame = if x.length_squared() > 1e-12 {
+        if x.length_squared() > 1e-12 {
             Frame::from_xz(x.normalize(), z)
         } else {
             Frame::from_z(z)
-        };
-        BSDF {
-            bxdf,
-            shading_frame,
         }
     }
 

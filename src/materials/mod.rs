@@ -383,15 +383,15 @@ impl Material {
                 let circular = CircularHairBxDF::new(base);
                 // The BSDF's own frame, for ω_o in local space: both models
                 // compute what depends on ω_o alone once, here.
-                let probe = BSDF::new(si.shading.n, si.shading.dpdu, BxDF::Hair(circular));
-                let wo = probe.render_to_local(si.wo);
+                let frame = BSDF::frame(si.shading.n, si.shading.dpdu);
+                let wo = frame.to_local(si.wo);
                 match dual {
                     None => BxDF::Hair(circular.with_outgoing(wo)),
                     Some((params, orientation)) => {
                         // The major axis from the strand's stable reference
                         // (the shading normal where a shape has none), in
                         // the local frame's azimuth φ = atan2(z, y).
-                        let r = probe.render_to_local(si.fiber_reference);
+                        let r = frame.to_local(si.fiber_reference);
                         let reference = if r.y == 0.0 && r.z == 0.0 {
                             std::f32::consts::FRAC_PI_2
                         } else {
