@@ -106,12 +106,14 @@ impl Bvh {
     ) -> Option<(usize, f32)> {
         let tree = self.tree.as_ref()?;
         let mut hit = RayHit::none();
-        let found = tree.ray_traverse(Self::obvhs_ray(ray, t_max), &mut hit, |r, i| {
-            match intersect(self.first + i, r.tmax) {
+        let found = tree.ray_traverse(
+            Self::obvhs_ray(ray, t_max),
+            &mut hit,
+            |r, i| match intersect(self.first + i, r.tmax) {
                 Some(t) if t > 0.0 && t < r.tmax => t,
                 _ => f32::INFINITY,
-            }
-        });
+            },
+        );
         found.then(|| (self.first + hit.primitive_id as usize, hit.t))
     }
 

@@ -158,7 +158,6 @@ pub(crate) fn wrap_angle(mut x: f32) -> f32 {
     x
 }
 
-
 /// Picks lobe p with probability `pdf[p]` and remaps `uc` to [0, 1)
 /// within its interval (so it can drive the lobe's azimuth).
 pub(crate) fn choose_lobe(pdf: &[f32; P_MAX + 1], uc: f32) -> (usize, f32) {
@@ -262,7 +261,13 @@ impl HairBxDF {
 
     /// Samples [`HairBxDF::azimuthal_logistic`].
     pub(crate) fn sample_azimuthal_logistic(&self, u: f32) -> f32 {
-        sample_logistic_in(u, self.s, (-PI, PI), self.logistic_mass, self.logistic_cdf_low)
+        sample_logistic_in(
+            u,
+            self.s,
+            (-PI, PI),
+            self.logistic_mass,
+            self.logistic_cdf_low,
+        )
     }
 
     /// Azimuthal scattering N_p around lobe p's deflection.

@@ -293,11 +293,7 @@ impl Ellipse {
             };
             *exit = Exit {
                 // Only the explicit lobes need a direction.
-                phi: if k < LOBES {
-                    azimuth(out)
-                } else {
-                    0.0
-                },
+                phi: if k < LOBES { azimuth(out) } else { 0.0 },
                 escape: if tir { 0.0 } else { inside * (1.0 - f) },
                 length: length as f32,
             };

@@ -19,9 +19,9 @@ use crate::math::equal_area::{
 use crate::samplers::distribution::{Domain2D, PiecewiseConstant2D};
 use crate::spectrum::color_space::RgbColorSpace;
 use crate::spectrum::{DenselySampled, RgbSigmoidPolynomial, SampledSpectrum, SampledWavelengths};
-use std::sync::Arc;
 use glam::{IVec2, Mat4, Vec2, Vec3};
 use std::f32::consts::PI;
+use std::sync::Arc;
 
 pub struct ImageInfiniteLight {
     pub render_from_light: Mat4,

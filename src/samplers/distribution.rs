@@ -302,15 +302,33 @@ mod tests {
             let function: Vec<f32> = (0..n)
                 .map(|i| match case % 4 {
                     0 => rnd(),
-                    1 => if rnd() < 0.7 { 0.0 } else { rnd() * 10.0 },
-                    2 => if i == n / 3 { 1e6 } else { rnd() * 1e-3 },
+                    1 => {
+                        if rnd() < 0.7 {
+                            0.0
+                        } else {
+                            rnd() * 10.0
+                        }
+                    }
+                    2 => {
+                        if i == n / 3 {
+                            1e6
+                        } else {
+                            rnd() * 1e-3
+                        }
+                    }
                     _ => (i as f32 * 0.1).sin().abs() * ((i % 17 == 0) as u8 as f32),
                 })
                 .collect();
             let d = PiecewiseConstant1D::new(&function, 0.0, 1.0);
             let mut us: Vec<f32> = (0..2000).map(|_| rnd()).collect();
             // Neighbouring floats (u > 0 here, so ± 1 ulp in the bits).
-            let around = |x: f32| [x, f32::from_bits(x.to_bits().saturating_sub(1)), f32::from_bits(x.to_bits() + 1)];
+            let around = |x: f32| {
+                [
+                    x,
+                    f32::from_bits(x.to_bits().saturating_sub(1)),
+                    f32::from_bits(x.to_bits() + 1),
+                ]
+            };
             for &c in &d.cdf {
                 us.extend(around(c));
             }
@@ -319,7 +337,11 @@ mod tests {
             }
             us.extend([0.0, ONE_BELOW_ONE]);
             for u in us.into_iter().filter(|u| (0.0..1.0).contains(u)) {
-                assert_eq!(d.interval(u), find_interval(&d.cdf, u), "case {case} n {n} u {u}");
+                assert_eq!(
+                    d.interval(u),
+                    find_interval(&d.cdf, u),
+                    "case {case} n {n} u {u}"
+                );
             }
         }
     }

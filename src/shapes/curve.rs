@@ -145,7 +145,14 @@ impl CurveSegment {
 }
 
 impl CurvePiece {
-    fn new(segment: u32, u0: f32, u1: f32, cp: [Vec3; 4], refine_depth: u32, width: [f32; 2]) -> Self {
+    fn new(
+        segment: u32,
+        u0: f32,
+        u1: f32,
+        cp: [Vec3; 4],
+        refine_depth: u32,
+        width: [f32; 2],
+    ) -> Self {
         debug_assert!((segment as usize) <= MAX_SEGMENTS && refine_depth < 16);
         CurvePiece {
             cp,

@@ -562,7 +562,10 @@ mod tests {
         storage.scale_curve_widths(&shapes, 2.0);
         assert!(hits(&storage) > 0);
         let wide = shapes[0].bounds(&storage);
-        assert!((wide.max.y - narrow.max.y - 0.1).abs() < 1e-6, "{narrow:?} {wide:?}");
+        assert!(
+            (wide.max.y - narrow.max.y - 0.1).abs() < 1e-6,
+            "{narrow:?} {wide:?}"
+        );
     }
 
     #[test]

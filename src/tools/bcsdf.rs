@@ -399,7 +399,10 @@ mod tests {
                 high = high.max(b / a - 1.0);
             }
         }
-        assert!(low > -0.06 && (0.07..0.13).contains(&high), "{low} … {high}");
+        assert!(
+            low > -0.06 && (0.07..0.13).contains(&high),
+            "{low} … {high}"
+        );
     }
 
     /// The maps are normalised as specified: on a fine grid ∫ N dφ_r of
