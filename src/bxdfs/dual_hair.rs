@@ -25,7 +25,7 @@
 //! does not turn with the view.
 
 use super::hair::{
-    choose_lobe, mp, sample_longitudinal, sample_trimmed_logistic, trimmed_logistic, wrap_angle,
+    choose_lobe, sample_longitudinal, sample_trimmed_logistic, trimmed_logistic, wrap_angle,
     HairBxDF, HairSample, P_MAX,
 };
 use super::hair_diffraction::{
@@ -213,13 +213,7 @@ impl DualHairBxDF {
     }
 
     fn m_residual(&self, l: &Local, sin_theta_i: f32, cos_theta_i: f32) -> f32 {
-        mp(
-            cos_theta_i,
-            l.cos_theta_o,
-            sin_theta_i,
-            l.sin_theta_o,
-            self.base.v[P_MAX],
-        )
+        self.base.m[P_MAX].eval(cos_theta_i, l.cos_theta_o, sin_theta_i, l.sin_theta_o)
     }
 
     /// Lobe-selection probabilities: A_p averaged over wavelengths.
@@ -248,7 +242,7 @@ impl DualHairBxDF {
         let mut sum = zero;
         for p in 0..LOBES {
             let (sin_o, cos_o) = self.base.tilted(p, l.sin_theta_o, l.cos_theta_o);
-            let m = mp(cos_theta_i, cos_o, sin_theta_i, sin_o, self.base.v[p]);
+            let m = self.base.m[p].eval(cos_theta_i, cos_o, sin_theta_i, sin_o);
             let n = self.base.azimuthal_logistic(wrap_angle(phi_i - phi[p]));
             sum += w[p] * (m * n);
         }
@@ -313,7 +307,7 @@ impl DualHairBxDF {
                 }
                 let (p, uc) = choose_lobe(&pdf, uc);
                 let (sin_o, cos_o) = self.base.tilted(p, l.sin_theta_o, l.cos_theta_o);
-                let (s, c) = sample_longitudinal(u, self.base.v[p], sin_o, cos_o);
+                let (s, c) = sample_longitudinal(u, self.base.m[p].v, sin_o, cos_o);
                 let phi_i = if p < LOBES {
                     phi[p] + self.base.sample_azimuthal_logistic(uc)
                 } else {
@@ -323,7 +317,7 @@ impl DualHairBxDF {
             }
             Hit::Ring { d_um } => {
                 let (s, c) =
-                    sample_longitudinal(u, self.base.v[P_MAX], l.sin_theta_o, l.cos_theta_o);
+                    sample_longitudinal(u, self.base.m[P_MAX].v, l.sin_theta_o, l.cos_theta_o);
                 let delta = match self.params.diffraction {
                     Diffraction::Logistic => {
                         sample_trimmed_logistic(uc, self.params.logistic_scale(*d_um), -PI, PI)

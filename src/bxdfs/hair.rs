@@ -28,8 +28,9 @@ pub struct HairBxDF {
     pub eta: f32,
     /// Absorption coefficient inside the fibre (per unit diameter).
     pub sigma_a: SampledSpectrum,
-    /// Longitudinal variances v_p of M_p.
-    pub(crate) v: [f32; P_MAX + 1],
+    /// M_p of each lobe: its variance v_p and the terms that follow from
+    /// it.
+    pub(crate) m: [Longitudinal; P_MAX + 1],
     /// Logistic scale s of N_p.
     pub(crate) s: f32,
     /// The logistic's mass on [−π, π] and its CDF at −π for scale s: the
@@ -76,21 +77,50 @@ fn log_i0(x: f32) -> f32 {
     }
 }
 
-/// Longitudinal scattering M_p (d'Eon et al. 2011), with the log form for
-/// low variance where the direct one overflows.
-pub(crate) fn mp(
-    cos_theta_i: f32,
-    cos_theta_o: f32,
-    sin_theta_i: f32,
-    sin_theta_o: f32,
-    v: f32,
-) -> f32 {
-    let a = cos_theta_i * cos_theta_o / v;
-    let b = sin_theta_i * sin_theta_o / v;
-    if v <= 0.1 {
-        (log_i0(a) - b - 1.0 / v + std::f32::consts::LN_2 + (1.0 / (2.0 * v)).ln()).exp()
-    } else {
-        ((-b).exp() * i0(a)) / ((1.0 / v).sinh() * 2.0 * v)
+/// Longitudinal scattering M_p (d'Eon et al. 2011) for one variance v,
+/// with the log form for low variance where the direct one overflows.
+/// The terms that depend on v alone are computed once per BxDF: pbrt-v4
+/// evaluates sinh(1/v) (or ln(1/2v)) in every call, a fifth of a hair path
+/// vertex. Values are bit-identical to the per-call form (the same
+/// expressions in the same order).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Longitudinal {
+    pub(crate) v: f32,
+    inv_v: f32,
+    /// ln(1/(2v)) for the log form (v ≤ 0.1), else sinh(1/v)·2v.
+    constant: f32,
+}
+
+impl Longitudinal {
+    pub(crate) fn new(v: f32) -> Self {
+        let constant = if v <= 0.1 {
+            (1.0 / (2.0 * v)).ln()
+        } else {
+            (1.0 / v).sinh() * 2.0 * v
+        };
+        Longitudinal {
+            v,
+            inv_v: 1.0 / v,
+            constant,
+        }
+    }
+
+    #[inline]
+    pub(crate) fn eval(
+        &self,
+        cos_theta_i: f32,
+        cos_theta_o: f32,
+        sin_theta_i: f32,
+        sin_theta_o: f32,
+    ) -> f32 {
+        let v = self.v;
+        let a = cos_theta_i * cos_theta_o / v;
+        let b = sin_theta_i * sin_theta_o / v;
+        if v <= 0.1 {
+            (log_i0(a) - b - self.inv_v + std::f32::consts::LN_2 + self.constant).exp()
+        } else {
+            ((-b).exp() * i0(a)) / self.constant
+        }
     }
 }
 
@@ -240,11 +270,20 @@ impl HairBxDF {
             sin_2k_alpha[i] = 2.0 * cos_2k_alpha[i - 1] * sin_2k_alpha[i - 1];
             cos_2k_alpha[i] = sqr(cos_2k_alpha[i - 1]) - sqr(sin_2k_alpha[i - 1]);
         }
+        // The residual shares TRT's variance (and so its constants).
+        let m_trt = Longitudinal::new(v[2]);
+        let m = std::array::from_fn(|p| {
+            if p < 2 {
+                Longitudinal::new(v[p])
+            } else {
+                m_trt
+            }
+        });
         HairBxDF {
             h,
             eta,
             sigma_a,
-            v,
+            m,
             s,
             logistic_mass: logistic_cdf(PI, s) - logistic_cdf(-PI, s),
             logistic_cdf_low: logistic_cdf(-PI, s),
@@ -340,17 +379,12 @@ impl HairBxDF {
         for (p, a_p) in o.a.iter().enumerate().take(P_MAX) {
             let (sin_o, cos_o) = o.tilted[p];
             fsum += *a_p
-                * (mp(cos_theta_i, cos_o, sin_theta_i, sin_o, self.v[p])
+                * (self.m[p].eval(cos_theta_i, cos_o, sin_theta_i, sin_o)
                     * self.np(dphi, p, o.gamma_o, o.gamma_t));
         }
         fsum += o.a[P_MAX]
-            * (mp(
-                cos_theta_i,
-                o.cos_theta_o,
-                sin_theta_i,
-                o.sin_theta_o,
-                self.v[P_MAX],
-            ) / (2.0 * PI));
+            * (self.m[P_MAX].eval(cos_theta_i, o.cos_theta_o, sin_theta_i, o.sin_theta_o)
+                / (2.0 * PI));
         let cos_wi = wi.z.abs();
         if cos_wi > 0.0 {
             fsum /= cos_wi;
@@ -368,7 +402,7 @@ impl HairBxDF {
     fn sample_at(&self, o: &Outgoing, uc: f32, u: Vec2) -> Option<HairSample> {
         let (p, uc) = choose_lobe(&o.ap_pdf, uc);
         let (sin_o, cos_o) = o.tilted[p];
-        let (sin_theta_i, cos_theta_i) = sample_longitudinal(u, self.v[p], sin_o, cos_o);
+        let (sin_theta_i, cos_theta_i) = sample_longitudinal(u, self.m[p].v, sin_o, cos_o);
         let dphi = if p < P_MAX {
             phi(p, o.gamma_o, o.gamma_t) + self.sample_azimuthal_logistic(uc)
         } else {
@@ -395,17 +429,12 @@ impl HairBxDF {
         let mut pdf = 0.0;
         for (p, &a) in o.ap_pdf.iter().enumerate().take(P_MAX) {
             let (sin_o, cos_o) = o.tilted[p];
-            pdf += mp(cos_theta_i, cos_o, sin_theta_i, sin_o, self.v[p])
+            pdf += self.m[p].eval(cos_theta_i, cos_o, sin_theta_i, sin_o)
                 * a
                 * self.np(dphi, p, o.gamma_o, o.gamma_t);
         }
-        pdf += mp(
-            cos_theta_i,
-            o.cos_theta_o,
-            sin_theta_i,
-            o.sin_theta_o,
-            self.v[P_MAX],
-        ) * o.ap_pdf[P_MAX]
+        pdf += self.m[P_MAX].eval(cos_theta_i, o.cos_theta_o, sin_theta_i, o.sin_theta_o)
+            * o.ap_pdf[P_MAX]
             / (2.0 * PI);
         pdf
     }
