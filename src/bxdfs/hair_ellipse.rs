@@ -265,12 +265,20 @@ impl Ellipse {
         let mut length = 0.0f64;
         let (mut tail_escape, mut tail_chord) = (0.0, 0.0);
         for (k, exit) in trace.exits.iter_mut().enumerate().skip(1) {
+            // p + L d lands on the boundary to f64 rounding (L is the
+            // quadratic's exact root), so four chords need no re-projection,
+            // and the normal M p is used unnormalised: cos² of the internal
+            // angle, the internal reflection and the exit azimuth need only
+            // its squared length (one division instead of a square root and
+            // a division per chord).
             let l = self.chord(p, d);
             length += l;
-            p = self.project(p + l * d);
-            let n = self.normal(p);
-            let cos_int = d.dot(n).clamp(0.0, 1.0);
-            let sin2_out = eta_p * eta_p * (1.0 - cos_int * cos_int);
+            p += l * d;
+            let m = self.m(p);
+            let inv_mm = 1.0 / m.length_squared();
+            let dm = d.dot(m).max(0.0);
+            let cos2_int = (dm * dm * inv_mm).min(1.0);
+            let sin2_out = eta_p * eta_p * (1.0 - cos2_int);
             let tir = sin2_out >= 1.0;
             let cos_out = sqrt0(1.0 - sin2_out);
             let f = match fresnel {
@@ -283,17 +291,21 @@ impl Ellipse {
                     fr_dielectric(optics.cos_theta * cos_out as f32, optics.eta)
                 }
                 InternalFresnel::Paper => {
-                    fr_dielectric(optics.cos_theta * cos_int as f32, optics.eta)
+                    fr_dielectric(optics.cos_theta * cos2_int.sqrt() as f32, optics.eta)
                 }
             };
-            let out = if tir {
-                reflect(d, n)
+            // Only the explicit lobes need a direction: the refracted ray
+            // η' d + (cos_out − η' cos_int) n̂ with n̂ = m/|m| and
+            // cos_int = d·m/|m|.
+            let phi = if k >= LOBES {
+                0.0
+            } else if tir {
+                azimuth(d - 2.0 * dm * inv_mm * m)
             } else {
-                eta_p * d + (cos_out - eta_p * cos_int) * n
+                azimuth(eta_p * d + (cos_out * inv_mm.sqrt() - eta_p * dm * inv_mm) * m)
             };
             *exit = Exit {
-                // Only the explicit lobes need a direction.
-                phi: if k < LOBES { azimuth(out) } else { 0.0 },
+                phi,
                 escape: if tir { 0.0 } else { inside * (1.0 - f) },
                 length: length as f32,
             };
@@ -302,7 +314,7 @@ impl Ellipse {
                 tail_chord += l as f32;
             }
             inside *= f;
-            d = reflect(d, n);
+            d -= 2.0 * dm * inv_mm * m;
         }
         let later = (TRACED_EXITS - LOBES) as f32;
         trace.tail_escape = tail_escape / later;
