@@ -196,8 +196,15 @@ impl Ellipse {
         let qa = u.dot(mu);
         let qb = c.dot(mu);
         let qc = c.dot(self.m(c)) - 1.0;
-        let t = (-qb + sqrt0(qb * qb - qa * qc)) / qa;
-        self.project(c + t * u)
+        let disc = qb * qb - qa * qc;
+        let t = (-qb + sqrt0(disc)) / qa;
+        if disc >= 0.0 {
+            // The root is on the boundary to f64 rounding.
+            c + t * u
+        } else {
+            // A tangent ray (|h| = 1) that rounding put just outside.
+            self.project(c + t * u)
+        }
     }
 
     /// Length of the chord from boundary point p along inward direction d:
@@ -260,7 +267,8 @@ impl Ellipse {
         // Refract in (Snell with η'): t = d/η' + (cos_i/η' − cos_t) n.
         let inv = 1.0 / eta_p;
         let cos_t = sqrt0(1.0 - inv * inv * (1.0 - cos_i * cos_i));
-        let mut d = (d * inv + (cos_i * inv - cos_t) * n).normalize_or(-n);
+        // Of unit length (|t|² = sin²θ_t + cos²θ_t for unit d and n).
+        let mut d = d * inv + (cos_i * inv - cos_t) * n;
         let mut inside = 1.0 - f0;
         let mut length = 0.0f64;
         let (mut tail_escape, mut tail_chord) = (0.0, 0.0);
