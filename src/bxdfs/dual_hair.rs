@@ -213,7 +213,9 @@ impl DualHairBxDF {
     }
 
     fn m_residual(&self, l: &Local, sin_theta_i: f32, cos_theta_i: f32) -> f32 {
-        self.base.m[P_MAX].eval(cos_theta_i, l.cos_theta_o, sin_theta_i, l.sin_theta_o)
+        self.base
+            .m(P_MAX)
+            .eval(cos_theta_i, l.cos_theta_o, sin_theta_i, l.sin_theta_o)
     }
 
     /// Lobe-selection probabilities: A_p averaged over wavelengths.
@@ -242,7 +244,7 @@ impl DualHairBxDF {
         let mut sum = zero;
         for p in 0..LOBES {
             let (sin_o, cos_o) = self.base.tilted(p, l.sin_theta_o, l.cos_theta_o);
-            let m = self.base.m[p].eval(cos_theta_i, cos_o, sin_theta_i, sin_o);
+            let m = self.base.m(p).eval(cos_theta_i, cos_o, sin_theta_i, sin_o);
             let n = self.base.azimuthal_logistic(wrap_angle(phi_i - phi[p]));
             sum += w[p] * (m * n);
         }
@@ -307,7 +309,7 @@ impl DualHairBxDF {
                 }
                 let (p, uc) = choose_lobe(&pdf, uc);
                 let (sin_o, cos_o) = self.base.tilted(p, l.sin_theta_o, l.cos_theta_o);
-                let (s, c) = sample_longitudinal(u, self.base.m[p].v, sin_o, cos_o);
+                let (s, c) = sample_longitudinal(u, self.base.m(p).v, sin_o, cos_o);
                 let phi_i = if p < LOBES {
                     phi[p] + self.base.sample_azimuthal_logistic(uc)
                 } else {
@@ -317,7 +319,7 @@ impl DualHairBxDF {
             }
             Hit::Ring { d_um } => {
                 let (s, c) =
-                    sample_longitudinal(u, self.base.m[P_MAX].v, l.sin_theta_o, l.cos_theta_o);
+                    sample_longitudinal(u, self.base.m(P_MAX).v, l.sin_theta_o, l.cos_theta_o);
                 let delta = match self.params.diffraction {
                     Diffraction::Logistic => {
                         sample_trimmed_logistic(uc, self.params.logistic_scale(*d_um), -PI, PI)

@@ -28,9 +28,9 @@ pub struct HairBxDF {
     pub eta: f32,
     /// Absorption coefficient inside the fibre (per unit diameter).
     pub sigma_a: SampledSpectrum,
-    /// M_p of each lobe: its variance v_p and the terms that follow from
-    /// it.
-    pub(crate) m: [Longitudinal; P_MAX + 1],
+    /// M_p of R, TT and TRT: the variance v_p and the terms that follow
+    /// from it (the residual shares TRT's; see [`HairBxDF::m`]).
+    longitudinal: [Longitudinal; P_MAX],
     /// Logistic scale s of N_p.
     pub(crate) s: f32,
     /// The logistic's mass on [−π, π] and its CDF at −π for scale s: the
@@ -86,7 +86,6 @@ fn log_i0(x: f32) -> f32 {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Longitudinal {
     pub(crate) v: f32,
-    inv_v: f32,
     /// ln(1/(2v)) for the log form (v ≤ 0.1), else sinh(1/v)·2v.
     constant: f32,
 }
@@ -98,11 +97,7 @@ impl Longitudinal {
         } else {
             (1.0 / v).sinh() * 2.0 * v
         };
-        Longitudinal {
-            v,
-            inv_v: 1.0 / v,
-            constant,
-        }
+        Longitudinal { v, constant }
     }
 
     #[inline]
@@ -117,7 +112,7 @@ impl Longitudinal {
         let a = cos_theta_i * cos_theta_o / v;
         let b = sin_theta_i * sin_theta_o / v;
         if v <= 0.1 {
-            (log_i0(a) - b - self.inv_v + std::f32::consts::LN_2 + self.constant).exp()
+            (log_i0(a) - b - 1.0 / v + std::f32::consts::LN_2 + self.constant).exp()
         } else {
             ((-b).exp() * i0(a)) / self.constant
         }
@@ -253,14 +248,8 @@ impl HairBxDF {
         alpha_degrees: f32,
     ) -> Self {
         let v0 = sqr(0.726 * beta_m + 0.812 * sqr(beta_m) + 3.7 * beta_m.powi(20));
-        let mut v = [0.0; P_MAX + 1];
-        v[0] = v0;
-        v[1] = 0.25 * v0;
-        v[2] = 4.0 * v0;
-        let v2 = v[2];
-        for item in v.iter_mut().skip(3) {
-            *item = v2;
-        }
+        // R, TT, TRT; the residual's is TRT's.
+        let v = [v0, 0.25 * v0, 4.0 * v0];
         let s = SQRT_PI_OVER_8 * (0.265 * beta_n + 1.194 * sqr(beta_n) + 5.372 * beta_n.powi(22));
         let mut sin_2k_alpha = [0.0; 3];
         let mut cos_2k_alpha = [0.0; 3];
@@ -270,26 +259,24 @@ impl HairBxDF {
             sin_2k_alpha[i] = 2.0 * cos_2k_alpha[i - 1] * sin_2k_alpha[i - 1];
             cos_2k_alpha[i] = sqr(cos_2k_alpha[i - 1]) - sqr(sin_2k_alpha[i - 1]);
         }
-        // The residual shares TRT's variance (and so its constants).
-        let m_trt = Longitudinal::new(v[2]);
-        let m = std::array::from_fn(|p| {
-            if p < 2 {
-                Longitudinal::new(v[p])
-            } else {
-                m_trt
-            }
-        });
+        let longitudinal = v.map(Longitudinal::new);
         HairBxDF {
             h,
             eta,
             sigma_a,
-            m,
+            longitudinal,
             s,
             logistic_mass: logistic_cdf(PI, s) - logistic_cdf(-PI, s),
             logistic_cdf_low: logistic_cdf(-PI, s),
             sin_2k_alpha,
             cos_2k_alpha,
         }
+    }
+
+    /// M_p of lobe p (0…P_MAX; the residual's variance is TRT's).
+    #[inline]
+    pub(crate) fn m(&self, p: usize) -> &Longitudinal {
+        &self.longitudinal[p.min(P_MAX - 1)]
     }
 
     /// pbrt-v4's trimmed logistic on [−π, π] with scale s, its
@@ -379,11 +366,13 @@ impl HairBxDF {
         for (p, a_p) in o.a.iter().enumerate().take(P_MAX) {
             let (sin_o, cos_o) = o.tilted[p];
             fsum += *a_p
-                * (self.m[p].eval(cos_theta_i, cos_o, sin_theta_i, sin_o)
+                * (self.m(p).eval(cos_theta_i, cos_o, sin_theta_i, sin_o)
                     * self.np(dphi, p, o.gamma_o, o.gamma_t));
         }
         fsum += o.a[P_MAX]
-            * (self.m[P_MAX].eval(cos_theta_i, o.cos_theta_o, sin_theta_i, o.sin_theta_o)
+            * (self
+                .m(P_MAX)
+                .eval(cos_theta_i, o.cos_theta_o, sin_theta_i, o.sin_theta_o)
                 / (2.0 * PI));
         let cos_wi = wi.z.abs();
         if cos_wi > 0.0 {
@@ -402,7 +391,7 @@ impl HairBxDF {
     fn sample_at(&self, o: &Outgoing, uc: f32, u: Vec2) -> Option<HairSample> {
         let (p, uc) = choose_lobe(&o.ap_pdf, uc);
         let (sin_o, cos_o) = o.tilted[p];
-        let (sin_theta_i, cos_theta_i) = sample_longitudinal(u, self.m[p].v, sin_o, cos_o);
+        let (sin_theta_i, cos_theta_i) = sample_longitudinal(u, self.m(p).v, sin_o, cos_o);
         let dphi = if p < P_MAX {
             phi(p, o.gamma_o, o.gamma_t) + self.sample_azimuthal_logistic(uc)
         } else {
@@ -429,11 +418,13 @@ impl HairBxDF {
         let mut pdf = 0.0;
         for (p, &a) in o.ap_pdf.iter().enumerate().take(P_MAX) {
             let (sin_o, cos_o) = o.tilted[p];
-            pdf += self.m[p].eval(cos_theta_i, cos_o, sin_theta_i, sin_o)
+            pdf += self.m(p).eval(cos_theta_i, cos_o, sin_theta_i, sin_o)
                 * a
                 * self.np(dphi, p, o.gamma_o, o.gamma_t);
         }
-        pdf += self.m[P_MAX].eval(cos_theta_i, o.cos_theta_o, sin_theta_i, o.sin_theta_o)
+        pdf += self
+            .m(P_MAX)
+            .eval(cos_theta_i, o.cos_theta_o, sin_theta_i, o.sin_theta_o)
             * o.ap_pdf[P_MAX]
             / (2.0 * PI);
         pdf

@@ -280,6 +280,28 @@ impl Material {
                 {
                     eumelanin = Some(FloatTexture::Constant(1.3));
                 }
+                // Constant melanin concentrations: σ_a's spectrum is made
+                // here once instead of at every hit (the same values).
+                let concentration = |t: &Option<FloatTexture>| match t {
+                    None => Some(0.0),
+                    Some(FloatTexture::Constant(c)) => Some(c.max(0.0)),
+                    Some(_) => None,
+                };
+                let sigma_a = match (
+                    sigma_a,
+                    &reflectance,
+                    concentration(&eumelanin),
+                    concentration(&pheomelanin),
+                ) {
+                    (None, None, Some(ce), Some(cp)) => {
+                        let rgb = HairBxDF::sigma_a_from_concentration(ce, cp);
+                        Some(SpectrumTexture::Constant(
+                            crate::spectrum::color_space::get(ColorSpaceName::Srgb)
+                                .rgb_to_spectrum(glam::Vec3::from(rgb), SpectrumKind::Unbounded),
+                        ))
+                    }
+                    (sigma_a, ..) => sigma_a,
+                };
                 Material::Hair {
                     sigma_a,
                     reflectance,
