@@ -277,8 +277,8 @@ impl Ellipse {
             // quadratic's exact root), so four chords need no re-projection,
             // and the normal M p is used unnormalised: cos² of the internal
             // angle, the internal reflection and the exit azimuth need only
-            // its squared length (one division instead of a square root and
-            // a division per chord).
+            // its squared length (a chord had three square roots and three
+            // divisions; now one, two at the lobes' exits, and two).
             let l = self.chord(p, d);
             length += l;
             p += l * d;
