@@ -302,13 +302,14 @@ impl Ellipse {
                     fr_dielectric(optics.cos_theta * cos2_int.sqrt() as f32, optics.eta)
                 }
             };
+            let reflected = d - 2.0 * dm * inv_mm * m;
             // Only the explicit lobes need a direction: the refracted ray
             // η' d + (cos_out − η' cos_int) n̂ with n̂ = m/|m| and
             // cos_int = d·m/|m|.
             let phi = if k >= LOBES {
                 0.0
             } else if tir {
-                azimuth(d - 2.0 * dm * inv_mm * m)
+                azimuth(reflected)
             } else {
                 azimuth(eta_p * d + (cos_out * inv_mm.sqrt() - eta_p * dm * inv_mm) * m)
             };
@@ -322,7 +323,7 @@ impl Ellipse {
                 tail_chord += l as f32;
             }
             inside *= f;
-            d -= 2.0 * dm * inv_mm * m;
+            d = reflected;
         }
         let later = (TRACED_EXITS - LOBES) as f32;
         trace.tail_escape = tail_escape / later;

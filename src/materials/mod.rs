@@ -165,6 +165,14 @@ fn eta_param(tp: &TextureParams, name: &str) -> Result<Eta> {
     Ok(Eta::Constant(1.5))
 }
 
+/// The hair absorption σ_a of eumelanin and pheomelanin concentrations
+/// (pbrt-v4: an sRGB colour made an unbounded spectrum).
+fn melanin_sigma_a(eumelanin: f32, pheomelanin: f32) -> Spectrum {
+    let rgb = HairBxDF::sigma_a_from_concentration(eumelanin, pheomelanin);
+    crate::spectrum::color_space::get(ColorSpaceName::Srgb)
+        .rgb_to_spectrum(glam::Vec3::from(rgb), SpectrumKind::Unbounded)
+}
+
 impl Material {
     /// How much wider than written this material's curves are: 1 + d_diff
     /// for the dual hair model's diffracting outer cylinder, else 1.
@@ -294,11 +302,7 @@ impl Material {
                     concentration(&pheomelanin),
                 ) {
                     (None, None, Some(ce), Some(cp)) => {
-                        let rgb = HairBxDF::sigma_a_from_concentration(ce, cp);
-                        Some(SpectrumTexture::Constant(
-                            crate::spectrum::color_space::get(ColorSpaceName::Srgb)
-                                .rgb_to_spectrum(glam::Vec3::from(rgb), SpectrumKind::Unbounded),
-                        ))
+                        Some(SpectrumTexture::Constant(melanin_sigma_a(ce, cp)))
                     }
                     (sigma_a, ..) => sigma_a,
                 };
@@ -395,10 +399,7 @@ impl Material {
                         .as_ref()
                         .map_or(0.0, |t| t.evaluate(ctx))
                         .max(0.0);
-                    let rgb = HairBxDF::sigma_a_from_concentration(ce, cp);
-                    crate::spectrum::color_space::get(ColorSpaceName::Srgb)
-                        .rgb_to_spectrum(glam::Vec3::from(rgb), SpectrumKind::Unbounded)
-                        .sample(lambda)
+                    melanin_sigma_a(ce, cp).sample(lambda)
                 };
                 let h = -1.0 + 2.0 * si.uv.y;
                 let base = HairBxDF::new(h, eta.evaluate(ctx), sig_a, bm, bn, alpha.evaluate(ctx));

@@ -182,17 +182,7 @@ impl SampledWavelengths {
             if up > 1.0 {
                 up -= 1.0;
             }
-            // λ = 538 − 138.88889 atanh(y) and 0.0072 · 138.88889 = 1, so the
-            // density 0.0039398 / cosh²(0.0072 (λ − 538)) is 0.0039398 (1 − y²):
-            // one atanh per wavelength instead of an atanh and a cosh (they
-            // were a tenth of a render whose camera rays mostly miss).
-            let y = VISIBLE_Y0 - VISIBLE_Y1 * up;
-            lambda[i] = 538.0 - 138.888_89 * y.atanh();
-            pdf[i] = if (LAMBDA_MIN..=LAMBDA_MAX).contains(&lambda[i]) {
-                VISIBLE_PDF_PEAK * (1.0 - y * y)
-            } else {
-                0.0
-            };
+            (lambda[i], pdf[i]) = visible_wavelength_and_pdf(up);
         }
         SampledWavelengths { lambda, pdf }
     }
@@ -235,7 +225,23 @@ pub fn visible_wavelength_pdf(lambda: f32) -> f32 {
 
 /// Inverse CDF of [`visible_wavelength_pdf`].
 pub fn sample_visible_wavelength(u: f32) -> f32 {
-    538.0 - 138.888_89 * (VISIBLE_Y0 - VISIBLE_Y1 * u).atanh()
+    visible_wavelength_and_pdf(u).0
+}
+
+/// The wavelength the inverse CDF gives for u, with its density. With
+/// λ = 538 − 138.88889 atanh(y) and 0.0072 · 138.88889 = 1, the density
+/// 0.0039398 / cosh²(0.0072 (λ − 538)) is 0.0039398 (1 − y²): one atanh per
+/// wavelength instead of an atanh and a cosh (together a sixth of a render
+/// whose camera rays mostly miss).
+fn visible_wavelength_and_pdf(u: f32) -> (f32, f32) {
+    let y = VISIBLE_Y0 - VISIBLE_Y1 * u;
+    let lambda = 538.0 - 138.888_89 * y.atanh();
+    let pdf = if (LAMBDA_MIN..=LAMBDA_MAX).contains(&lambda) {
+        VISIBLE_PDF_PEAK * (1.0 - y * y)
+    } else {
+        0.0
+    };
+    (lambda, pdf)
 }
 
 #[cfg(test)]
