@@ -94,6 +94,11 @@ where
             tiles
                 .par_iter()
                 .zip(tile_pixels.par_iter_mut())
+                // One tile per job: rayon's adaptive splitting otherwise
+                // hands out runs of tiles whose cost differs widely (hair
+                // covers some tiles only), leaving a thread idle for up to a
+                // quarter of every wave.
+                .with_max_len(1)
                 .for_each_init(&make_state, |state, ((lo, hi), acc)| {
                     if interrupt.load(Ordering::Relaxed) {
                         return;
