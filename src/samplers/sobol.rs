@@ -3,11 +3,12 @@
 
 use super::hash::hash_words;
 use super::randomize_strategy::{BinaryScrambler, RandomizeStrategy};
-use super::sobol_interval::sobol_interval_to_index;
+use super::sobol_interval::{sobol_frame_index, sobol_pixel_index};
 use super::sobol_matrices::SOBOL_DIMENSIONS;
 use super::sobol_sample::sobol_sample;
 use super::ONE_MINUS_EPSILON;
 use glam::{IVec2, Vec2};
+use std::sync::Arc;
 
 /// Samples from one image-wide Sobol' sequence (pbrt-v4's `SobolSampler`).
 ///
@@ -28,9 +29,14 @@ pub struct SobolSampler {
     /// The power of two at least the image's larger side.
     scale: i32,
     log2_scale: u32,
-    seed: i32,
     randomize: RandomizeStrategy,
+    /// The scrambling hash of each dimension, (dimension, seed) hashed
+    /// once per sampler rather than per sample.
+    dimension_hashes: Arc<[u32]>,
     pixel: IVec2,
+    /// The pixel's part of the Sobol' index (see `sobol_pixel_index`),
+    /// kept while the pixel's samples are taken.
+    pixel_index: u64,
     dimension: usize,
     sobol_index: u64,
 }
@@ -49,9 +55,12 @@ impl SobolSampler {
             samples_per_pixel,
             scale: scale as i32,
             log2_scale: scale.trailing_zeros(),
-            seed,
             randomize,
+            dimension_hashes: (0..SOBOL_DIMENSIONS)
+                .map(|d| hash_words(&[d as u32, seed as u32]) as u32)
+                .collect(),
             pixel: IVec2::ZERO,
+            pixel_index: sobol_pixel_index(scale.trailing_zeros(), IVec2::ZERO),
             dimension: 0,
             sobol_index: 0,
         }
@@ -62,18 +71,19 @@ impl SobolSampler {
     }
 
     pub fn start_pixel_sample(&mut self, pixel: IVec2, sample_index: u32, dimension: u32) {
-        self.pixel = pixel;
+        if pixel != self.pixel {
+            self.pixel = pixel;
+            self.pixel_index = sobol_pixel_index(self.log2_scale, pixel);
+        }
         self.dimension = (dimension as usize).max(2);
-        self.sobol_index = sobol_interval_to_index(self.log2_scale, u64::from(sample_index), pixel);
+        self.sobol_index =
+            sobol_frame_index(self.log2_scale, u64::from(sample_index)) ^ self.pixel_index;
     }
 
     fn sample_dimension(&self, dimension: usize) -> f32 {
         let scrambler = match self.randomize {
             RandomizeStrategy::None => BinaryScrambler::None,
-            strategy => {
-                let hash = hash_words(&[dimension as u32, self.seed as u32]) as u32;
-                BinaryScrambler::new(strategy, hash)
-            }
+            strategy => BinaryScrambler::new(strategy, self.dimension_hashes[dimension]),
         };
         sobol_sample(self.sobol_index, dimension, scrambler)
     }

@@ -20,8 +20,10 @@ pub const MAX_LOG2_RESOLUTION: u32 = 25;
 struct PixelGridMatrices {
     /// Column c: the index bits to XOR in for bit c of the packed pixel.
     inverse_columns: Vec<u64>,
-    /// Column c: the packed pixel bits that index bit 2m + c contributes.
-    frame_columns: Vec<u64>,
+    /// Column c: M⁻¹ of [`frame_columns`]' column c, the low index bits that frame
+    /// bit c XORs in (the map is linear, so the pixel's and the frame's
+    /// parts of the index can be computed apart).
+    frame_index_columns: Vec<u64>,
 }
 
 /// The packed pixel bits (`(x << m) | y`, each the top m bits of its
@@ -53,15 +55,39 @@ impl PixelGridMatrices {
                 }
             }
         }
-        let inverse_columns = rows.iter().map(|&(_, combination)| combination).collect();
-        let frame_columns = (size..SOBOL_MATRIX_SIZE)
-            .map(|k| pixel_bits_of_index_bit(m, k))
+        let inverse_columns: Vec<u64> = rows.iter().map(|&(_, combination)| combination).collect();
+        let frame_index_columns = frame_columns(m)
+            .iter()
+            .map(|&bits| xor_columns(&inverse_columns, bits))
             .collect();
         PixelGridMatrices {
             inverse_columns,
-            frame_columns,
+            frame_index_columns,
         }
     }
+}
+
+/// D: column c is the packed pixel bits that index bit 2m + c contributes.
+fn frame_columns(m: u32) -> Vec<u64> {
+    (2 * m as usize..SOBOL_MATRIX_SIZE)
+        .map(|k| pixel_bits_of_index_bit(m, k))
+        .collect()
+}
+
+/// The XOR of the `columns` picked by the set bits of `bits` (a matrix
+/// times a vector over GF(2)).
+fn xor_columns(columns: &[u64], mut bits: u64) -> u64 {
+    let mut sum = 0;
+    for column in columns {
+        if bits == 0 {
+            break;
+        }
+        if bits & 1 != 0 {
+            sum ^= column;
+        }
+        bits >>= 1;
+    }
+    sum
 }
 
 fn pixel_grid_matrices(m: u32) -> &'static PixelGridMatrices {
@@ -78,35 +104,31 @@ fn pixel_grid_matrices(m: u32) -> &'static PixelGridMatrices {
 /// in cell `pixel` of the 2^`log2_resolution` square grid over [0,1)².
 /// `log2_resolution` must not exceed [`MAX_LOG2_RESOLUTION`] and the pixel
 /// must lie in the grid.
-pub fn sobol_interval_to_index(log2_resolution: u32, frame: u64, pixel: glam::IVec2) -> u64 {
+#[cfg(test)]
+fn sobol_interval_to_index(log2_resolution: u32, frame: u64, pixel: glam::IVec2) -> u64 {
+    sobol_frame_index(log2_resolution, frame) ^ sobol_pixel_index(log2_resolution, pixel)
+}
+
+/// The part of [`sobol_interval_to_index`] that depends on the pixel alone
+/// (M⁻¹ of its bits): a sampler computes it once per pixel.
+pub fn sobol_pixel_index(log2_resolution: u32, pixel: glam::IVec2) -> u64 {
+    let m = log2_resolution;
+    if m == 0 {
+        return 0;
+    }
+    let pixel_bits = (u64::from(pixel.x as u32) << m) | u64::from(pixel.y as u32);
+    xor_columns(&pixel_grid_matrices(m).inverse_columns, pixel_bits)
+}
+
+/// The part of [`sobol_interval_to_index`] that depends on the frame alone:
+/// the frame above the low 2m bits, and M⁻¹ D of the frame in them.
+pub fn sobol_frame_index(log2_resolution: u32, frame: u64) -> u64 {
     let m = log2_resolution;
     if m == 0 {
         return frame;
     }
     let matrices = pixel_grid_matrices(m);
-    let mut index = frame << (2 * m);
-    let mut delta = 0u64;
-    let mut remaining = frame;
-    for column in &matrices.frame_columns {
-        if remaining == 0 {
-            break;
-        }
-        if remaining & 1 != 0 {
-            delta ^= column;
-        }
-        remaining >>= 1;
-    }
-    let mut pixel_bits = ((u64::from(pixel.x as u32) << m) | u64::from(pixel.y as u32)) ^ delta;
-    for column in &matrices.inverse_columns {
-        if pixel_bits == 0 {
-            break;
-        }
-        if pixel_bits & 1 != 0 {
-            index ^= column;
-        }
-        pixel_bits >>= 1;
-    }
-    index
+    (frame << (2 * m)) ^ xor_columns(&matrices.frame_index_columns, frame)
 }
 
 #[cfg(test)]
@@ -130,11 +152,11 @@ mod tests {
             [0x28, 0x30, 0x10, 0x3c, 0x22, 0x11]
         );
         assert_eq!(
-            &PixelGridMatrices::new(3).frame_columns[..4],
+            &frame_columns(3)[..4],
             &[0x5, 0x7, 0x4, 0x6]
         );
         assert_eq!(
-            &PixelGridMatrices::new(17).frame_columns[..3],
+            &frame_columns(17)[..3],
             &[0x14000, 0x1e000, 0x11000]
         );
         assert_eq!(
@@ -147,7 +169,7 @@ mod tests {
             ]
         );
         assert_eq!(
-            PixelGridMatrices::new(25).frame_columns,
+            frame_columns(25),
             [0x140_0140, 0x1e0_01e0]
         );
     }
