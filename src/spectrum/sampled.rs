@@ -232,10 +232,13 @@ pub fn sample_visible_wavelength(u: f32) -> f32 {
 /// λ = 538 − 138.88889 atanh(y) and 0.0072 · 138.88889 = 1, the density
 /// 0.0039398 / cosh²(0.0072 (λ − 538)) is 0.0039398 (1 − y²): one atanh per
 /// wavelength instead of an atanh and a cosh (together a sixth of a render
-/// whose camera rays mostly miss).
+/// whose camera rays mostly miss). atanh(y) is taken as ½ ln((1 + y)/(1 − y)):
+/// `f32::atanh` calls log1pf, several times slower than logf, and y stays
+/// in [−0.971, 0.857], where the quotient loses nothing that matters
+/// (below 10⁻³ nm).
 fn visible_wavelength_and_pdf(u: f32) -> (f32, f32) {
     let y = VISIBLE_Y0 - VISIBLE_Y1 * u;
-    let lambda = 538.0 - 138.888_89 * y.atanh();
+    let lambda = 538.0 - 69.444_445 * ((1.0 + y) / (1.0 - y)).ln();
     let pdf = if (LAMBDA_MIN..=LAMBDA_MAX).contains(&lambda) {
         VISIBLE_PDF_PEAK * (1.0 - y * y)
     } else {
@@ -262,6 +265,10 @@ mod tests {
                     up -= 1.0;
                 }
                 assert_eq!(l, sample_visible_wavelength(up));
+                // The ln form of atanh against f64's atanh.
+                let y = VISIBLE_Y0 as f64 - VISIBLE_Y1 as f64 * up as f64;
+                let exact = 538.0 - 138.888_888_9 * y.atanh();
+                assert!((l as f64 - exact).abs() < 1e-3, "u {up}: λ {l} vs {exact}");
                 let expected = visible_wavelength_pdf(l);
                 assert!(
                     (s.pdf[i] - expected).abs() <= 2e-6 * expected.max(1e-3),
