@@ -1,7 +1,9 @@
 //! Spectra tabulated at every whole nanometre: constant-time lookup for
 //! spectra evaluated on every path (a colour space's illuminant, lights).
 
-use super::sampled::{SampledSpectrum, SampledWavelengths, LAMBDA_MAX, LAMBDA_MIN};
+use super::sampled::{
+    nearest_nanometre, SampledSpectrum, SampledWavelengths, LAMBDA_MAX, LAMBDA_MIN,
+};
 
 /// Values at each whole nanometre from `lambda_min` to `lambda_max`,
 /// looked up at the nearest one; zero outside (pbrt-v4's
@@ -47,13 +49,12 @@ impl DenselySampled {
     /// The value at the whole nanometre nearest `lambda`.
     #[inline]
     pub fn eval(&self, lambda: f32) -> f32 {
-        // Rounds half away from zero, as pbrt's lround; NaN fails the test.
-        let offset = lambda.round() - self.lambda_min as f32;
-        if offset >= 0.0 && offset < self.values.len() as f32 {
-            self.values[offset as usize]
-        } else {
-            0.0
-        }
+        let offset = nearest_nanometre(lambda) - self.lambda_min;
+        usize::try_from(offset)
+            .ok()
+            .and_then(|i| self.values.get(i))
+            .copied()
+            .unwrap_or(0.0)
     }
 
     #[inline]

@@ -209,6 +209,16 @@ impl SampledWavelengths {
     }
 }
 
+/// The whole nanometre nearest `lambda` (positive, as every wavelength
+/// is), rounding halves up as pbrt's lround does; NaN gives 0, outside
+/// every table. A cast rather than `f32::round`, which is a
+/// libm call on the baseline x86-64 target, taken per wavelength per
+/// spectrum lookup.
+#[inline]
+pub fn nearest_nanometre(lambda: f32) -> i32 {
+    (lambda + 0.5) as i32
+}
+
 /// pbrt-v4's visible-wavelength density peak, and the affine map from u to
 /// the argument of its inverse CDF's atanh.
 const VISIBLE_PDF_PEAK: f32 = 0.003_939_804_3;
