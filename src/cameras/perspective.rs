@@ -27,7 +27,7 @@ pub struct PerspectiveCamera {
     screen_per_pixel: Vec2,
     /// tan(fov / 2).
     tan_half_fov: f32,
-    lens_radius: f32,
+    pub(super) lens_radius: f32,
     focal_distance: f32,
     pub min_differentials: MinimumDifferentials,
 }
@@ -113,17 +113,19 @@ impl PerspectiveCamera {
         // One pixel over in x and y, on the same z = 1 plane.
         let dx_camera = Vec3::new(self.screen_per_pixel.x * self.tan_half_fov, 0.0, 0.0);
         let dy_camera = Vec3::new(0.0, self.screen_per_pixel.y * self.tan_half_fov, 0.0);
+        // Directions are normalised once, after the transform to render
+        // space: normalize(M d) is the same for d and d / |d|.
         let mut origin = Vec3::ZERO;
-        let mut direction = p_camera.normalize();
-        let mut rx = (origin, (p_camera + dx_camera).normalize());
-        let mut ry = (origin, (p_camera + dy_camera).normalize());
+        let mut direction = p_camera;
+        let mut rx = (origin, p_camera + dx_camera);
+        let mut ry = (origin, p_camera + dy_camera);
         if self.lens_radius > 0.0 {
             let lens = self.lens_radius * sample_uniform_disk_concentric(sample.p_lens);
             origin = Vec3::new(lens.x, lens.y, 0.0);
             // Each ray passes through its own point on the plane of focus.
             let through_lens = |d: Vec3| {
                 let focus = d * (self.focal_distance / d.z);
-                (origin, (focus - origin).normalize())
+                (origin, focus - origin)
             };
             direction = through_lens(direction).1;
             rx = through_lens(rx.1);
