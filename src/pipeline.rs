@@ -48,6 +48,7 @@ pub fn render_file(
     let spp = built.sampler.samples_per_pixel();
     let bad = AtomicU64::new(0);
     let disable_jitter = loaded.scene.options.disable_wavelength_jitter;
+    let uses_lens = built.camera.uses_lens();
     let outcome = render(
         film.pixel_bounds,
         spp,
@@ -64,10 +65,21 @@ pub fn render_file(
             };
             let mut lambda = SampledWavelengths::sample_visible(lu);
             let fs = built.filter.sample(sampler.get_pixel_2d());
+            // pbrt-v4 takes a time and a lens point for every camera ray.
+            // Without motion (unsupported) the time changes nothing, and
+            // without a lens neither does the lens point: their dimensions
+            // are skipped, not computed, so later ones stay pbrt-v4's.
+            sampler.skip(1);
+            let p_lens = if uses_lens {
+                sampler.get_2d()
+            } else {
+                sampler.skip(2);
+                Vec2::splat(0.5)
+            };
             let sample = CameraSample {
                 p_film: pixel.as_vec2() + Vec2::splat(0.5) + fs.p,
-                time: sampler.get_1d(),
-                p_lens: sampler.get_2d(),
+                time: 0.5,
+                p_lens,
                 filter_weight: fs.weight,
             };
             let Some(camera_ray) = built.camera.generate_ray(&sample, &lambda) else {

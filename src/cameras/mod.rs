@@ -76,6 +76,14 @@ impl Camera {
         }
     }
 
+    /// Whether rays depend on `CameraSample::p_lens` (a lens of non-zero
+    /// radius); without one the sampler need not compute it.
+    pub fn uses_lens(&self) -> bool {
+        match self {
+            Camera::Perspective(c) => c.lens_radius > 0.0,
+        }
+    }
+
     /// Approximate (∂p/∂x, ∂p/∂y) at a render-space point with normal `n`
     /// for a render of `samples_per_pixel` (see [`differentials`]).
     pub fn approximate_dp_dxy(&self, p: Vec3, n: Vec3, samples_per_pixel: u32) -> (Vec3, Vec3) {

@@ -135,6 +135,11 @@ impl HaltonSampler {
         }
     }
 
+    /// See `Sampler::skip`.
+    pub fn skip(&mut self, count: usize) {
+        super::take_dimensions(&mut self.dimension, count, PRIME_TABLE_SIZE);
+    }
+
     pub fn get_1d(&mut self) -> f32 {
         let dimension = super::take_dimensions(&mut self.dimension, 1, PRIME_TABLE_SIZE);
         self.sample_dimension(dimension)

@@ -261,6 +261,27 @@ impl Sampler {
     pub fn get_pixel_2d(&mut self) -> Vec2 {
         dispatch!(self, s => s.get_pixel_2d())
     }
+
+    /// Moves past the `count` (1 or 2) dimensions one `get_1d` or `get_2d`
+    /// would take, without computing their values: for a value the scene
+    /// does not use (the camera's time without motion, its lens point
+    /// without a lens), so that later requests get the dimensions pbrt-v4
+    /// gives them. Samplers that draw from a random stream draw and discard.
+    pub fn skip(&mut self, count: usize) {
+        match self {
+            Sampler::Halton(s) => s.skip(count),
+            Sampler::Sobol(s) => s.skip(count),
+            Sampler::PaddedSobol(s) => s.skip(count),
+            Sampler::ZSobol(s) => s.skip(count),
+            Sampler::Independent(_) | Sampler::Stratified(_) => {
+                if count == 1 {
+                    self.get_1d();
+                } else {
+                    self.get_2d();
+                }
+            }
+        }
+    }
 }
 
 /// `n` as `x · y` with `y` the largest divisor of `n` not above √n (pbrt-v4's

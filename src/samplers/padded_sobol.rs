@@ -64,6 +64,11 @@ impl PaddedSobolSampler {
         (hash, u64::from(index))
     }
 
+    /// See `Sampler::skip`.
+    pub fn skip(&mut self, count: usize) {
+        self.dimension += count as u32;
+    }
+
     pub fn get_1d(&mut self) -> f32 {
         let (hash, index) = self.hash_and_index();
         self.dimension += 1;

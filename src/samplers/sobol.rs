@@ -88,6 +88,11 @@ impl SobolSampler {
         sobol_sample(self.sobol_index, dimension, scrambler)
     }
 
+    /// See `Sampler::skip`.
+    pub fn skip(&mut self, count: usize) {
+        super::take_dimensions(&mut self.dimension, count, SOBOL_DIMENSIONS);
+    }
+
     pub fn get_1d(&mut self) -> f32 {
         let dimension = super::take_dimensions(&mut self.dimension, 1, SOBOL_DIMENSIONS);
         self.sample_dimension(dimension)

@@ -151,14 +151,8 @@ mod tests {
             PixelGridMatrices::new(3).inverse_columns,
             [0x28, 0x30, 0x10, 0x3c, 0x22, 0x11]
         );
-        assert_eq!(
-            &frame_columns(3)[..4],
-            &[0x5, 0x7, 0x4, 0x6]
-        );
-        assert_eq!(
-            &frame_columns(17)[..3],
-            &[0x14000, 0x1e000, 0x11000]
-        );
+        assert_eq!(&frame_columns(3)[..4], &[0x5, 0x7, 0x4, 0x6]);
+        assert_eq!(&frame_columns(17)[..3], &[0x14000, 0x1e000, 0x11000]);
         assert_eq!(
             &PixelGridMatrices::new(19).inverse_columns[..4],
             &[
@@ -168,10 +162,7 @@ mod tests {
                 0xf_fff0_0000
             ]
         );
-        assert_eq!(
-            frame_columns(25),
-            [0x140_0140, 0x1e0_01e0]
-        );
+        assert_eq!(frame_columns(25), [0x140_0140, 0x1e0_01e0]);
     }
 
     #[test]

@@ -340,3 +340,29 @@ fn long_paths_keep_producing_values() {
         }
     }
 }
+
+/// Skipping a value leaves every later value as it would be had it been
+/// taken, for every sampler, including at the wrap of the dimension tables.
+#[test]
+fn skipping_keeps_later_dimensions() {
+    for text in ALL {
+        let mut taken = make(text, 3, RESOLUTION);
+        let mut skipped = make(text, 3, RESOLUTION);
+        for (pixel, index) in [(IVec2::new(5, 7), 0), (IVec2::new(39, 29), 13)] {
+            taken.start_pixel_sample(pixel, index, 0);
+            skipped.start_pixel_sample(pixel, index, 0);
+            for round in 0..700 {
+                let (a, b) = if round % 3 == 0 {
+                    taken.get_1d();
+                    skipped.skip(1);
+                    (taken.get_2d(), skipped.get_2d())
+                } else {
+                    taken.get_2d();
+                    skipped.skip(2);
+                    (Vec2::splat(taken.get_1d()), Vec2::splat(skipped.get_1d()))
+                };
+                assert_eq!(a, b, "{text}: round {round}");
+            }
+        }
+    }
+}

@@ -122,6 +122,11 @@ impl ZSobolSampler {
         BinaryScrambler::new(self.randomize, seed)
     }
 
+    /// See `Sampler::skip`.
+    pub fn skip(&mut self, count: usize) {
+        self.dimension += count as u32;
+    }
+
     pub fn get_1d(&mut self) -> f32 {
         let sample_index = self.sample_index();
         self.dimension += 1;
