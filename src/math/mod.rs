@@ -3,6 +3,7 @@
 
 pub mod bounds;
 pub mod equal_area;
+pub mod exp4;
 pub mod frame;
 pub mod ray;
 pub mod sampling;
