@@ -115,9 +115,9 @@ pub struct Exit {
 pub struct Trace {
     /// Exit 0 is the reflection R, exit p the p-th refraction out.
     pub exits: [Exit; TRACED_EXITS],
-    /// Power still inside after the last traced exit, and its path length.
+    /// Power still inside after the last traced exit (whose `length` is
+    /// the path length so far).
     pub remaining: f32,
-    pub remaining_length: f32,
     /// Mean escape fraction and chord length over the exits after TRT,
     /// which continue as a geometric tail.
     pub tail_escape: f32,
@@ -329,7 +329,6 @@ impl Ellipse {
         trace.tail_escape = tail_escape / later;
         trace.tail_chord = tail_chord / later;
         trace.remaining = inside;
-        trace.remaining_length = length as f32;
         trace
     }
 }
@@ -353,15 +352,20 @@ impl Trace {
         let k = sigma_a / cos_theta_t.max(1e-7);
         let transmit = |len: f32| (-(k * len)).exp();
         let mut a = [SampledSpectrum::ZERO; LOBES + 1];
-        for (p, e) in self.exits.iter().enumerate().take(LOBES) {
+        // R never enters the fibre (length 0, T = 1).
+        a[0] = SampledSpectrum::splat(self.exits[0].escape);
+        for (p, e) in self.exits.iter().enumerate().take(LOBES).skip(1) {
             a[p] = transmit(e.length) * e.escape;
         }
         if !self.residual {
             return a;
         }
+        // T at the last traced exit, which is also where the tail starts.
+        let mut last = SampledSpectrum::ONE;
         for e in &self.exits[LOBES..] {
+            last = transmit(e.length);
             if e.escape > 0.0 {
-                a[LOBES] += transmit(e.length) * e.escape;
+                a[LOBES] += last * e.escape;
             }
         }
         // Tail: the power left inside escapes at the traced later exits'
@@ -372,7 +376,7 @@ impl Trace {
             let tau = transmit(self.tail_chord);
             let e = self.tail_escape.max(1e-4);
             let tail = (tau * e).safe_div(SampledSpectrum::ONE - tau * (1.0 - e));
-            a[LOBES] += transmit(self.remaining_length) * tail * self.remaining;
+            a[LOBES] += last * tail * self.remaining;
         }
         a
     }
