@@ -32,6 +32,7 @@ use super::hair_diffraction::{
     eq36_scale, fitted_scale, sample_spectral, spectral_density, spectral_pdf, Diffraction,
 };
 use super::hair_ellipse::{Ellipse, InternalFresnel, Optics, Variant, LOBES};
+use crate::math::fast_atan2::fast_atan2;
 use crate::math::{safe_sqrt, sqr};
 use crate::spectrum::{SampledSpectrum, N_SPECTRUM_SAMPLES};
 use glam::{Vec2, Vec3};
@@ -146,7 +147,7 @@ impl DualHairBxDF {
     fn local(&self, wo: Vec3) -> Local {
         let sin_theta_o = wo.x.clamp(-1.0, 1.0);
         let cos_theta_o = safe_sqrt(1.0 - sqr(sin_theta_o));
-        let phi_o = wo.z.atan2(wo.y);
+        let phi_o = fast_atan2(wo.z, wo.y);
         let phi_e = phi_o - self.axis;
         let h = self.base.h * (1.0 + self.params.d_diff);
         let hit = if h.abs() <= 1.0 {
@@ -260,7 +261,7 @@ impl DualHairBxDF {
     fn value_local(&self, l: &Local, wi: Vec3) -> SampledSpectrum {
         let sin_theta_i = wi.x.clamp(-1.0, 1.0);
         let cos_theta_i = safe_sqrt(1.0 - sqr(sin_theta_i));
-        let phi_i = wi.z.atan2(wi.y);
+        let phi_i = fast_atan2(wi.z, wi.y);
         let mut f = match &l.hit {
             Hit::Fibre { phi, a } => self.lobe_sum(
                 l,
@@ -354,7 +355,7 @@ impl DualHairBxDF {
         let l = self.local_for(wo);
         let sin_theta_i = wi.x.clamp(-1.0, 1.0);
         let cos_theta_i = safe_sqrt(1.0 - sqr(sin_theta_i));
-        self.pdf_local(&l, sin_theta_i, cos_theta_i, wi.z.atan2(wi.y))
+        self.pdf_local(&l, sin_theta_i, cos_theta_i, fast_atan2(wi.z, wi.y))
     }
 }
 

@@ -4,6 +4,7 @@
 pub mod bounds;
 pub mod equal_area;
 pub mod exp4;
+pub mod fast_atan2;
 pub mod frame;
 pub mod ray;
 pub mod sampling;
