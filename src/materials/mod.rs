@@ -418,7 +418,7 @@ impl Material {
                         let reference = if r.y == 0.0 && r.z == 0.0 {
                             std::f32::consts::FRAC_PI_2
                         } else {
-                            r.z.atan2(r.y)
+                            crate::math::fast_atan2::fast_atan2(r.z, r.y)
                         };
                         BxDF::DualHair(
                             DualHairBxDF::new(
