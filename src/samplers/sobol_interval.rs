@@ -109,8 +109,9 @@ fn sobol_interval_to_index(log2_resolution: u32, frame: u64, pixel: glam::IVec2)
     sobol_frame_index(log2_resolution, frame) ^ sobol_pixel_index(log2_resolution, pixel)
 }
 
-/// The part of [`sobol_interval_to_index`] that depends on the pixel alone
-/// (M⁻¹ of its bits): a sampler computes it once per pixel.
+/// The part of the index of a pixel's `frame`-th point (see
+/// `sobol_interval_to_index`) that depends on the pixel alone (M⁻¹ of its
+/// bits): a sampler computes it once per pixel.
 pub fn sobol_pixel_index(log2_resolution: u32, pixel: glam::IVec2) -> u64 {
     let m = log2_resolution;
     if m == 0 {
@@ -120,8 +121,8 @@ pub fn sobol_pixel_index(log2_resolution: u32, pixel: glam::IVec2) -> u64 {
     xor_columns(&pixel_grid_matrices(m).inverse_columns, pixel_bits)
 }
 
-/// The part of [`sobol_interval_to_index`] that depends on the frame alone:
-/// the frame above the low 2m bits, and M⁻¹ D of the frame in them.
+/// The part of the same index that depends on the frame alone: the frame
+/// above the low 2m bits, and M⁻¹ D of the frame in them.
 pub fn sobol_frame_index(log2_resolution: u32, frame: u64) -> u64 {
     let m = log2_resolution;
     if m == 0 {
