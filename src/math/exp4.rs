@@ -71,18 +71,19 @@ unsafe fn exp4_sse2(x: [f32; 4]) -> [f32; 4] {
         p = _mm_add_ps(_mm_mul_ps(p, r), _mm_set1_ps(c));
     }
     let r2 = _mm_mul_ps(r, r);
-    let e_r = _mm_add_ps(
-        _mm_add_ps(_mm_mul_ps(p, r2), r),
-        _mm_set1_ps(1.0),
-    );
+    let e_r = _mm_add_ps(_mm_add_ps(_mm_mul_ps(p, r2), r), _mm_set1_ps(1.0));
     // 2ⁿ as 2^⌊n/2⌋ · 2^⌈n/2⌉: n runs over [−126, 128] and 2¹²⁸ is not a
     // float, but each half is.
     let half = _mm_srai_epi32(ni, 1);
-    let pow2 = |k: __m128i| _mm_castsi128_ps(_mm_slli_epi32(_mm_add_epi32(k, _mm_set1_epi32(127)), 23));
+    let pow2 =
+        |k: __m128i| _mm_castsi128_ps(_mm_slli_epi32(_mm_add_epi32(k, _mm_set1_epi32(127)), 23));
     let (scale, scale_extra) = (pow2(half), pow2(_mm_sub_epi32(ni, half)));
     let mut y = _mm_mul_ps(_mm_mul_ps(e_r, scale), scale_extra);
     y = _mm_andnot_ps(low, y);
-    y = _mm_or_ps(_mm_andnot_ps(high, y), _mm_and_ps(high, _mm_set1_ps(f32::INFINITY)));
+    y = _mm_or_ps(
+        _mm_andnot_ps(high, y),
+        _mm_and_ps(high, _mm_set1_ps(f32::INFINITY)),
+    );
     y = _mm_or_ps(_mm_andnot_ps(nan, y), _mm_and_ps(nan, v));
     let mut out = [0.0f32; 4];
     _mm_storeu_ps(out.as_mut_ptr(), y);
@@ -144,7 +145,12 @@ mod tests {
                 }
                 worst = worst.max(ulps(got[k], want));
                 // The portable lane agrees bit for bit.
-                assert_eq!(got[k].to_bits(), exp1(lanes[k]).to_bits(), "x = {}", lanes[k]);
+                assert_eq!(
+                    got[k].to_bits(),
+                    exp1(lanes[k]).to_bits(),
+                    "x = {}",
+                    lanes[k]
+                );
             }
         }
         eprintln!("exp4: worst error {worst:.2} ulps");
