@@ -250,7 +250,7 @@ pub fn sample_visible_wavelength(u: f32) -> f32 {
 /// (below 10⁻³ nm).
 fn visible_wavelength_and_pdf(u: f32) -> (f32, f32) {
     let y = VISIBLE_Y0 - VISIBLE_Y1 * u;
-    let lambda = 538.0 - 69.444_445 * ((1.0 + y) / (1.0 - y)).ln();
+    let lambda = 538.0 - 69.444_44 * ((1.0 + y) / (1.0 - y)).ln();
     let pdf = if (LAMBDA_MIN..=LAMBDA_MAX).contains(&lambda) {
         VISIBLE_PDF_PEAK * (1.0 - y * y)
     } else {
