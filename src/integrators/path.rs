@@ -2,16 +2,33 @@
 //! unidirectional path tracing with next-event estimation and multiple
 //! importance sampling of lights and BSDFs, Russian roulette after the
 //! second bounce.
+//!
+//! Without media the two differ in two ways, both kept: `volpath` weighs
+//! light and BSDF samples by the balance heuristic (its rescaled path
+//! probabilities divide by the sum of the two densities) where `path` uses
+//! the power heuristic, and `volpath` draws its Russian-roulette number at
+//! every bounce where `path` draws it only when roulette applies.
 
 use crate::bxdfs::{BxDFReflTransFlags, TransportMode, BSDF};
 use crate::cameras::CameraRay;
 use crate::interaction::SurfaceInteraction;
 use crate::lights::{Light, LightKind, LightSampleContext};
-use crate::math::sampling::power_heuristic;
+use crate::math::sampling::{balance_heuristic, power_heuristic};
 use crate::samplers::Sampler;
 use crate::scene::build::BuiltScene;
+use crate::scene::build::IntegratorKind;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::textures::TextureEvalContext;
+
+/// The MIS weight of a sample drawn with density `f` against the other
+/// strategy's `g`, by the integrator's heuristic.
+fn mis_weight(volpath: bool, f: f32, g: f32) -> f32 {
+    if volpath {
+        balance_heuristic(1.0, f, 1.0, g)
+    } else {
+        power_heuristic(1.0, f, 1.0, g)
+    }
+}
 
 fn light_context(si: &SurfaceInteraction) -> LightSampleContext {
     LightSampleContext {
@@ -35,6 +52,7 @@ pub fn path_li(
     // (through `interface` surfaces too, as the offset rays go straight on).
     let mut from_camera = true;
     let max_depth = scene.integrator.max_depth;
+    let volpath = scene.integrator.kind == IntegratorKind::VolPath;
     let regularize = scene.integrator.regularize;
     let spp = scene.sampler.samples_per_pixel();
     let mut l = SampledSpectrum::ZERO;
@@ -55,7 +73,7 @@ pub fn path_li(
                     (Some(ctx), false) => {
                         let p_l = scene.light_sampler.pmf(ctx, i)
                             * light.pdf_li(ctx, ray.direction, &scene.shapes, true);
-                        l += beta * le * power_heuristic(1.0, p_b, 1.0, p_l);
+                        l += beta * le * mis_weight(volpath, p_b, p_l);
                     }
                     _ => l += beta * le,
                 }
@@ -73,7 +91,7 @@ pub fn path_li(
                             let light = &scene.lights[light_index as usize];
                             let p_l = scene.light_sampler.pmf(ctx, light_index as usize)
                                 * light.pdf_li(ctx, ray.direction, &scene.shapes, true);
-                            l += beta * le * power_heuristic(1.0, p_b, 1.0, p_l);
+                            l += beta * le * mis_weight(volpath, p_b, p_l);
                         }
                         _ => l += beta * le,
                     }
@@ -108,7 +126,7 @@ pub fn path_li(
         depth += 1;
         let flags = bsdf.flags();
         if flags.is_non_specular() {
-            let ld = sample_ld(scene, &si, &bsdf, lambda, sampler);
+            let ld = sample_ld(scene, &si, &bsdf, lambda, sampler, volpath);
             l += beta * ld;
         }
         prev_ctx = Some(light_context(&si));
@@ -137,11 +155,15 @@ pub fn path_li(
         }
         ray = si.spawn_ray(bs.wi);
 
-        // Russian roulette.
+        // Russian roulette (`volpath` takes its number at every bounce).
+        if volpath && beta.is_zero() {
+            break;
+        }
+        let u_rr = volpath.then(|| sampler.get_1d());
         let rr_beta = beta * eta_scale;
         if rr_beta.max_component() < 1.0 && depth > 1 {
             let q = (1.0 - rr_beta.max_component()).max(0.0);
-            if sampler.get_1d() < q {
+            if u_rr.unwrap_or_else(|| sampler.get_1d()) < q {
                 break;
             }
             beta /= 1.0 - q;
@@ -154,13 +176,14 @@ pub fn path_li(
 }
 
 /// Direct lighting at `si` from one sampled light, MIS-weighted against
-/// BSDF sampling.
+/// BSDF sampling (by `volpath`'s heuristic when `volpath`).
 fn sample_ld(
     scene: &BuiltScene,
     si: &SurfaceInteraction,
     bsdf: &BSDF,
     lambda: &SampledWavelengths,
     sampler: &mut Sampler,
+    volpath: bool,
 ) -> SampledSpectrum {
     let mut ctx = light_context(si);
     let flags = bsdf.flags();
@@ -199,5 +222,5 @@ fn sample_ld(
         TransportMode::Radiance,
         BxDFReflTransFlags::All,
     );
-    ls.l * f * (power_heuristic(1.0, p_l, 1.0, p_b) / p_l)
+    ls.l * f * (mis_weight(volpath, p_l, p_b) / p_l)
 }

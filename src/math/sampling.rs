@@ -52,6 +52,20 @@ pub fn sample_uniform_triangle(u: Vec2) -> [f32; 3] {
     [b0, b1, 1.0 - b0 - b1]
 }
 
+/// Balance heuristic for multiple importance sampling: the weight pbrt-v4's
+/// `volpath` gives its samples, dividing by the sum of the densities.
+pub fn balance_heuristic(nf: f32, f_pdf: f32, ng: f32, g_pdf: f32) -> f32 {
+    let f = nf * f_pdf;
+    let g = ng * g_pdf;
+    if f.is_infinite() {
+        return 1.0;
+    }
+    if f == 0.0 && g == 0.0 {
+        return 0.0;
+    }
+    f / (f + g)
+}
+
 /// Power heuristic (β = 2) for multiple importance sampling.
 pub fn power_heuristic(nf: f32, f_pdf: f32, ng: f32, g_pdf: f32) -> f32 {
     let f = nf * f_pdf;
