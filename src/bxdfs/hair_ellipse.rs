@@ -252,7 +252,7 @@ impl Ellipse {
         variant: Variant,
         fresnel: InternalFresnel,
     ) -> Trace {
-        self.trace_while(phi_in, h, optics, variant, fresnel, TRAPPED_POWER)
+        self.trace_while(phi_in, h, optics, (variant, fresnel), TRAPPED_POWER)
     }
 
     /// [`Ellipse::trace`], tracing past [`TRACED_EXITS`] while more than
@@ -262,8 +262,7 @@ impl Ellipse {
         phi_in: f32,
         h: f32,
         optics: &Optics,
-        variant: Variant,
-        fresnel: InternalFresnel,
+        (variant, fresnel): (Variant, InternalFresnel),
         trapped_power: f32,
     ) -> Trace {
         let (sin_phi, cos_phi) = (phi_in as f64).sin_cos();
@@ -537,14 +536,8 @@ mod tests {
                     for j in 0..=40 {
                         let h = -1.0 + j as f32 * 0.05;
                         let run = |power| {
-                            e.trace_while(
-                                phi,
-                                h,
-                                &optics,
-                                Variant::Exact,
-                                InternalFresnel::Pbrt,
-                                power,
-                            )
+                            let model = (Variant::Exact, InternalFresnel::Pbrt);
+                            e.trace_while(phi, h, &optics, model, power)
                         };
                         let (adaptive, all) = (run(TRAPPED_POWER), run(-1.0));
                         assert_eq!(all.count, MAX_EXITS);

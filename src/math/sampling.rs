@@ -55,28 +55,25 @@ pub fn sample_uniform_triangle(u: Vec2) -> [f32; 3] {
 /// Balance heuristic for multiple importance sampling: the weight pbrt-v4's
 /// `volpath` gives its samples, dividing by the sum of the densities.
 pub fn balance_heuristic(nf: f32, f_pdf: f32, ng: f32, g_pdf: f32) -> f32 {
-    let f = nf * f_pdf;
-    let g = ng * g_pdf;
-    if f.is_infinite() {
-        return 1.0;
-    }
-    if f == 0.0 && g == 0.0 {
-        return 0.0;
-    }
-    f / (f + g)
+    heuristic(nf * f_pdf, ng * g_pdf, |x| x)
 }
 
 /// Power heuristic (β = 2) for multiple importance sampling.
 pub fn power_heuristic(nf: f32, f_pdf: f32, ng: f32, g_pdf: f32) -> f32 {
-    let f = nf * f_pdf;
-    let g = ng * g_pdf;
+    heuristic(nf * f_pdf, ng * g_pdf, |x| x * x)
+}
+
+/// w(f) / (w(f) + w(g)) for the weighted densities f and g, 1 when f is
+/// infinite and 0 when both are 0.
+#[inline]
+fn heuristic(f: f32, g: f32, w: impl Fn(f32) -> f32) -> f32 {
     if f.is_infinite() {
         return 1.0;
     }
     if f == 0.0 && g == 0.0 {
         return 0.0;
     }
-    (f * f) / (f * f + g * g)
+    w(f) / (w(f) + w(g))
 }
 
 #[cfg(test)]
