@@ -155,10 +155,12 @@ pub fn path_li(
         }
         ray = si.spawn_ray(bs.wi);
 
-        // Russian roulette (`volpath` takes its number at every bounce).
-        if volpath && beta.is_zero() {
+        // A path that carries nothing ends here (after it, roulette would
+        // only end it too).
+        if beta.is_zero() {
             break;
         }
+        // Russian roulette (`volpath` takes its number at every bounce).
         let u_rr = volpath.then(|| sampler.get_1d());
         let rr_beta = beta * eta_scale;
         if rr_beta.max_component() < 1.0 && depth > 1 {
@@ -167,9 +169,6 @@ pub fn path_li(
                 break;
             }
             beta /= 1.0 - q;
-        }
-        if beta.is_zero() {
-            break;
         }
     }
     l
