@@ -9,7 +9,7 @@
 use glam::Vec3;
 
 use super::data::cie_1931::{CIE_1931_X, CIE_1931_Y, CIE_1931_Z};
-use super::sampled::{nearest_nanometre, SampledSpectrum, SampledWavelengths, LAMBDA_MIN};
+use super::sampled::{nanometre_index, SampledSpectrum, SampledWavelengths, LAMBDA_MIN};
 
 /// ∫ ȳ(λ) dλ over 360–830 nm (1 nm sum of the table): the Y of a constant
 /// spectrum of 1. pbrt-v4 divides by this so that such a spectrum has Y = 1.
@@ -22,10 +22,7 @@ pub const CIE_SAMPLE_COUNT: usize = 471;
 /// or `None` outside them (where the observer is taken to be blind).
 #[inline]
 fn table_index(lambda: f32) -> Option<usize> {
-    let offset = nearest_nanometre(lambda) - LAMBDA_MIN as i32;
-    (0..CIE_SAMPLE_COUNT as i32)
-        .contains(&offset)
-        .then_some(offset as usize)
+    nanometre_index(lambda, LAMBDA_MIN as i32, CIE_SAMPLE_COUNT)
 }
 
 /// x̄(λ) at the nearest whole nanometre; 0 outside 360–830 nm.

@@ -2,7 +2,7 @@
 //! spectra evaluated on every path (a colour space's illuminant, lights).
 
 use super::sampled::{
-    nearest_nanometre, SampledSpectrum, SampledWavelengths, LAMBDA_MAX, LAMBDA_MIN,
+    nanometre_index, SampledSpectrum, SampledWavelengths, LAMBDA_MAX, LAMBDA_MIN,
 };
 
 /// Values at each whole nanometre from `lambda_min` to `lambda_max`,
@@ -49,12 +49,7 @@ impl DenselySampled {
     /// The value at the whole nanometre nearest `lambda`.
     #[inline]
     pub fn eval(&self, lambda: f32) -> f32 {
-        let offset = nearest_nanometre(lambda) - self.lambda_min;
-        usize::try_from(offset)
-            .ok()
-            .and_then(|i| self.values.get(i))
-            .copied()
-            .unwrap_or(0.0)
+        nanometre_index(lambda, self.lambda_min, self.values.len()).map_or(0.0, |i| self.values[i])
     }
 
     #[inline]

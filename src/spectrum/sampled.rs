@@ -69,7 +69,7 @@ impl SampledSpectrum {
     }
 
     /// e^v per wavelength, four at once ([`crate::math::exp4`]: within 2
-    /// ulps of libm's).
+    /// ulps of the exact value).
     pub fn exp(self) -> Self {
         SampledSpectrum(crate::math::exp4::exp4(self.0))
     }
@@ -211,14 +211,15 @@ impl SampledWavelengths {
     }
 }
 
-/// The whole nanometre nearest `lambda` (positive, as every wavelength
-/// is), rounding halves up as pbrt's lround does; NaN gives 0, outside
-/// every table. A cast rather than `f32::round`, which is a
-/// libm call on the baseline x86-64 target, taken per wavelength per
-/// spectrum lookup.
+/// Index of the whole nanometre nearest `lambda` in a table of `len`
+/// values at every nanometre from `first`, or `None` outside it (NaN too).
+/// Halves round up, as pbrt's lround does for the positive wavelengths it
+/// is given; by a cast rather than `f32::round`, which is a libm call on
+/// the baseline x86-64 target, taken per wavelength per spectrum lookup.
 #[inline]
-pub fn nearest_nanometre(lambda: f32) -> i32 {
-    (lambda + 0.5) as i32
+pub fn nanometre_index(lambda: f32, first: i32, len: usize) -> Option<usize> {
+    let offset = (lambda + 0.5) as i32 - first;
+    usize::try_from(offset).ok().filter(|&i| i < len)
 }
 
 /// pbrt-v4's visible-wavelength density peak, and the affine map from u to
