@@ -118,6 +118,26 @@ pub fn block_bias(
     total / count.max(1) as f64
 }
 
+/// How many samples above `sample_value` an image of `spp` samples per
+/// pixel holds, judged against `reference` (RGB-interleaved): one sample of
+/// value S lifts its pixel's mean by S/spp, so the pixels whose mean RGB
+/// exceeds the reference's by more than `sample_value / spp` are counted.
+/// Counted both ways between two renders at equal spp (each as the other's
+/// reference), this compares the tails of their sample distributions, which
+/// MRSE at low spp sees only by the luck of a few samples.
+pub fn bright_samples(image: &[f32], reference: &[f32], spp: u32, sample_value: f64) -> usize {
+    assert_eq!(image.len(), reference.len());
+    let threshold = 3.0 * sample_value / spp as f64;
+    image
+        .chunks_exact(3)
+        .zip(reference.chunks_exact(3))
+        .filter(|(x, r)| {
+            let excess: f64 = x.iter().zip(r.iter()).map(|(&a, &b)| (a - b) as f64).sum();
+            excess > threshold
+        })
+        .count()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -140,6 +160,19 @@ mod tests {
         let noisy = [1.2f32, 0.8, 1.2, 0.8];
         assert!(block_bias(&noisy, &[1.0; 4], 2, 2, 1, 2) < 1e-6);
         assert!(mrse(&noisy, &[1.0; 4]) > 0.03);
+    }
+
+    #[test]
+    fn bright_samples_are_counted_by_their_lift() {
+        let reference = vec![0.5f32; 12];
+        let mut image = reference.clone();
+        // At 10 spp a sample of value 30 lifts its pixel by 3 (all channels).
+        image[3..6].copy_from_slice(&[3.5, 3.5, 3.5]);
+        // One of 20, in one channel only: a mean RGB lift of 2/3.
+        image[6] += 2.0;
+        assert_eq!(bright_samples(&image, &reference, 10, 25.0), 1);
+        assert_eq!(bright_samples(&image, &reference, 10, 5.0), 2);
+        assert_eq!(bright_samples(&reference, &image, 10, 5.0), 0);
     }
 
     #[test]
