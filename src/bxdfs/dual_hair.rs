@@ -31,7 +31,7 @@ use super::hair::{
 use super::hair_diffraction::{
     eq36_scale, fitted_scale, sample_spectral, spectral_density, spectral_pdf, Diffraction,
 };
-use super::hair_ellipse::{Ellipse, InternalFresnel, Optics, Variant, LOBES};
+use super::hair_ellipse::{Attenuation, Ellipse, InternalFresnel, Optics, Variant, LOBES};
 use crate::math::fast_atan2::fast_atan2;
 use crate::math::{safe_sqrt, sqr};
 use crate::spectrum::{SampledSpectrum, N_SPECTRUM_SAMPLES};
@@ -152,16 +152,28 @@ impl DualHairBxDF {
         let h = self.base.h * (1.0 + self.params.d_diff);
         let hit = if h.abs() <= 1.0 {
             let optics = Optics::new(self.base.eta, sin_theta_o);
-            let trace = self.params.ellipse.trace(
+            let mut phi = [0.0; LOBES];
+            let mut a = Attenuation::new(
+                self.base.sigma_a,
+                optics.cos_theta_t,
+                self.params.variant == Variant::Exact,
+            );
+            let end = self.params.ellipse.trace_into(
                 phi_e,
                 h,
                 &optics,
                 self.params.variant,
                 self.params.internal_fresnel,
+                |k, exit| {
+                    if k < LOBES {
+                        phi[k] = exit.phi + self.axis;
+                    }
+                    a.add(k, &exit);
+                },
             );
             Hit::Fibre {
-                phi: std::array::from_fn(|p| trace.exits[p].phi + self.axis),
-                a: trace.attenuations(self.base.sigma_a, optics.cos_theta_t),
+                phi,
+                a: a.finish(&end),
             }
         } else {
             Hit::Ring {

@@ -122,12 +122,11 @@ pub struct Exit {
     pub length: f32,
 }
 
-/// The traced path for one (φ_in, h).
+/// What a trace leaves after its exits: how many were traced, and what the
+/// residual's geometric tail needs.
 #[derive(Clone, Copy, Debug, Default)]
-pub struct Trace {
-    /// Exit 0 is the reflection R, exit p the p-th refraction out; the
-    /// first `count` are traced.
-    pub exits: [Exit; MAX_EXITS],
+pub struct TraceEnd {
+    /// Exits traced (the first `count`).
     pub count: usize,
     /// Power still inside after the last traced exit (whose `length` is
     /// the path length so far).
@@ -138,6 +137,15 @@ pub struct Trace {
     pub tail_chord: f32,
     /// Whether later orders are kept (the exact variant's residual lobe).
     pub residual: bool,
+}
+
+/// The traced path for one (φ_in, h).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Trace {
+    /// Exit 0 is the reflection R, exit p the p-th refraction out; the
+    /// first `end.count` are traced.
+    pub exits: [Exit; MAX_EXITS],
+    pub end: TraceEnd,
 }
 
 /// 2D reflection of d about the unit normal n.
@@ -262,9 +270,39 @@ impl Ellipse {
         phi_in: f32,
         h: f32,
         optics: &Optics,
-        (variant, fresnel): (Variant, InternalFresnel),
+        model: (Variant, InternalFresnel),
         trapped_power: f32,
     ) -> Trace {
+        let mut exits = [Exit::default(); MAX_EXITS];
+        let end = self.trace_exits(phi_in, h, optics, model, trapped_power, |k, e| exits[k] = e);
+        Trace { exits, end }
+    }
+
+    /// [`Ellipse::trace`] handing each exit to `on_exit` (its index and
+    /// itself) as it is traced instead of keeping them: a path vertex needs
+    /// only the attenuations and the lobes' azimuths
+    /// ([`Attenuation`]), not a 24-exit record to fill and copy.
+    pub fn trace_into(
+        &self,
+        phi_in: f32,
+        h: f32,
+        optics: &Optics,
+        variant: Variant,
+        fresnel: InternalFresnel,
+        on_exit: impl FnMut(usize, Exit),
+    ) -> TraceEnd {
+        self.trace_exits(phi_in, h, optics, (variant, fresnel), TRAPPED_POWER, on_exit)
+    }
+
+    fn trace_exits(
+        &self,
+        phi_in: f32,
+        h: f32,
+        optics: &Optics,
+        (variant, fresnel): (Variant, InternalFresnel),
+        trapped_power: f32,
+        mut on_exit: impl FnMut(usize, Exit),
+    ) -> TraceEnd {
         let (sin_phi, cos_phi) = (phi_in as f64).sin_cos();
         let u = DVec2::new(cos_phi, sin_phi);
         let h = h.clamp(-1.0, 1.0) as f64;
@@ -282,15 +320,15 @@ impl Ellipse {
         let cos_i = (-d.dot(n)).clamp(0.0, 1.0);
         let r = reflect(d, n);
         let f0 = fr_dielectric(optics.cos_theta * cos_i as f32, optics.eta);
-        let mut trace = Trace {
-            residual: variant == Variant::Exact,
-            ..Trace::default()
-        };
-        trace.exits[0] = Exit {
-            phi: azimuth(r),
-            escape: f0,
-            length: 0.0,
-        };
+        let residual = variant == Variant::Exact;
+        on_exit(
+            0,
+            Exit {
+                phi: azimuth(r),
+                escape: f0,
+                length: 0.0,
+            },
+        );
         // Refract in (Snell with η'): t = d/η' + (cos_i/η' − cos_t) n.
         let inv = 1.0 / eta_p;
         let cos_t = sqrt0(1.0 - inv * inv * (1.0 - cos_i * cos_i));
@@ -300,8 +338,8 @@ impl Ellipse {
         let mut length = 0.0f64;
         let (mut tail_escape, mut tail_chord) = (0.0, 0.0);
         let mut count = MAX_EXITS;
-        for (k, exit) in trace.exits.iter_mut().enumerate().skip(1) {
-            if k >= TRACED_EXITS && (!trace.residual || inside <= trapped_power) {
+        for k in 1..MAX_EXITS {
+            if k >= TRACED_EXITS && (!residual || inside <= trapped_power) {
                 count = k;
                 break;
             }
@@ -345,11 +383,14 @@ impl Ellipse {
             } else {
                 azimuth(eta_p * d + (cos_out * inv_mm.sqrt() - eta_p * dm * inv_mm) * m)
             };
-            *exit = Exit {
-                phi,
-                escape: if tir { 0.0 } else { inside * (1.0 - f) },
-                length: length as f32,
-            };
+            on_exit(
+                k,
+                Exit {
+                    phi,
+                    escape: if tir { 0.0 } else { inside * (1.0 - f) },
+                    length: length as f32,
+                },
+            );
             if k >= LOBES {
                 tail_escape += if tir { 0.0 } else { 1.0 - f };
                 tail_chord += l as f32;
@@ -357,12 +398,14 @@ impl Ellipse {
             inside *= f;
             d = reflected;
         }
-        trace.count = count;
         let later = (count - LOBES) as f32;
-        trace.tail_escape = tail_escape / later;
-        trace.tail_chord = tail_chord / later;
-        trace.remaining = inside;
-        trace
+        TraceEnd {
+            count,
+            remaining: inside,
+            tail_escape: tail_escape / later,
+            tail_chord: tail_chord / later,
+            residual,
+        }
     }
 }
 
@@ -383,40 +426,80 @@ impl Trace {
         sigma_a: SampledSpectrum,
         cos_theta_t: f32,
     ) -> [SampledSpectrum; LOBES + 1] {
-        let k = sigma_a / cos_theta_t.max(1e-7);
-        let transmit = |len: f32| (-(k * len)).exp();
-        let mut a = [SampledSpectrum::ZERO; LOBES + 1];
-        // R never enters the fibre (length 0, T = 1).
-        a[0] = SampledSpectrum::splat(self.exits[0].escape);
-        for (p, e) in self.exits.iter().enumerate().take(LOBES).skip(1) {
-            a[p] = transmit(e.length) * e.escape;
+        let mut attenuation = Attenuation::new(sigma_a, cos_theta_t, self.end.residual);
+        for (k, exit) in self.exits[..self.end.count].iter().enumerate() {
+            attenuation.add(k, exit);
         }
-        if !self.residual {
-            return a;
+        attenuation.finish(&self.end)
+    }
+}
+
+/// A_0…A_2 and the residual A_3 of one trace, summed exit by exit as the
+/// trace reports them ([`Ellipse::trace_into`]), for absorption σ_a per
+/// unit mean radius: T = exp(−σ_a L / cos θ_t) per path (Eq. 22).
+pub struct Attenuation {
+    /// σ_a / cos θ_t: T = exp(−k L).
+    k: SampledSpectrum,
+    a: [SampledSpectrum; LOBES + 1],
+    residual: bool,
+    /// The last later exit's transmittance that was computed, and its path
+    /// length (the tail starts at the last traced exit).
+    last: (SampledSpectrum, f32),
+    /// The path length at the last exit added.
+    end_length: f32,
+}
+
+impl Attenuation {
+    pub fn new(sigma_a: SampledSpectrum, cos_theta_t: f32, residual: bool) -> Self {
+        Attenuation {
+            k: sigma_a / cos_theta_t.max(1e-7),
+            a: [SampledSpectrum::ZERO; LOBES + 1],
+            residual,
+            last: (SampledSpectrum::ONE, 0.0),
+            end_length: 0.0,
         }
-        // Exits trapped by total internal reflection pass nothing out and
-        // need no transmittance; the last one computed is kept for the
-        // tail, which starts at the last traced exit.
-        let mut last = (SampledSpectrum::ONE, 0.0f32);
-        for e in &self.exits[LOBES..self.count] {
-            if e.escape > 0.0 {
-                last = (transmit(e.length), e.length);
-                a[LOBES] += last.0 * e.escape;
-            }
+    }
+
+    #[inline]
+    fn transmit(&self, length: f32) -> SampledSpectrum {
+        (-(self.k * length)).exp()
+    }
+
+    /// Exit `k` of the trace (in order).
+    #[inline]
+    pub fn add(&mut self, k: usize, exit: &Exit) {
+        self.end_length = exit.length;
+        if k == 0 {
+            // R never enters the fibre (length 0, T = 1).
+            self.a[0] = SampledSpectrum::splat(exit.escape);
+        } else if k < LOBES {
+            self.a[k] = self.transmit(exit.length) * exit.escape;
+        } else if self.residual && exit.escape > 0.0 {
+            // Exits trapped by total internal reflection pass nothing out
+            // and need no transmittance.
+            self.last = (self.transmit(exit.length), exit.length);
+            self.a[LOBES] += self.last.0 * exit.escape;
         }
+    }
+
+    /// The attenuations, with the geometric tail after the last exit.
+    pub fn finish(mut self, end: &TraceEnd) -> [SampledSpectrum; LOBES + 1] {
         // Tail: the power left inside escapes at the traced later exits'
         // mean rate ē per chord of mean length ℓ̄, absorbed on the way:
         // Σ_j (1 − ē)^{j−1} ē τ^j = ē τ / (1 − (1 − ē) τ), τ = e^{−k ℓ̄}
         // (pbrt's geometric residual when every chord is alike).
-        if self.remaining > 0.0 {
-            let tau = transmit(self.tail_chord);
-            let e = self.tail_escape.max(1e-4);
+        if self.residual && end.remaining > 0.0 {
+            let tau = self.transmit(end.tail_chord);
+            let e = end.tail_escape.max(1e-4);
             let tail = (tau * e).safe_div(SampledSpectrum::ONE - tau * (1.0 - e));
-            let end = self.exits[self.count - 1].length;
-            let at_end = if last.1 == end { last.0 } else { transmit(end) };
-            a[LOBES] += at_end * tail * self.remaining;
+            let at_end = if self.last.1 == self.end_length {
+                self.last.0
+            } else {
+                self.transmit(self.end_length)
+            };
+            self.a[LOBES] += at_end * tail * end.remaining;
         }
-        a
+        self.a
     }
 }
 
@@ -540,8 +623,8 @@ mod tests {
                             e.trace_while(phi, h, &optics, model, power)
                         };
                         let (adaptive, all) = (run(TRAPPED_POWER), run(-1.0));
-                        assert_eq!(all.count, MAX_EXITS);
-                        extended += usize::from(adaptive.count > TRACED_EXITS);
+                        assert_eq!(all.end.count, MAX_EXITS);
+                        extended += usize::from(adaptive.end.count > TRACED_EXITS);
                         total += 1;
                         for sigma in [0.0f32, 0.2, 1.0] {
                             let s = SampledSpectrum::splat(sigma);
