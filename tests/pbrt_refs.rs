@@ -48,8 +48,8 @@ fn render(shared: &Path, name: &str, spp: u32) -> (Image, f64) {
 
 fn check_scene(shared: &Path, name: &str, spp: u32) {
     let refs = shared.join("refs");
-    let reference = Image::read(&refs.join(format!("{name}-ref.exr"))).expect("reference image");
-    let pbrt = Image::read(&refs.join(format!("{name}-{spp}.exr"))).expect("pbrt render");
+    let reference = Image::read(refs.join(format!("{name}-ref.exr"))).expect("reference image");
+    let pbrt = Image::read(refs.join(format!("{name}-{spp}.exr"))).expect("pbrt render");
     let pbrt_cmp = compare(&pbrt, &reference);
     let (ours, seconds) = render(shared, name, spp);
     let our_cmp = compare(&ours, &reference);
@@ -106,8 +106,8 @@ fn hair_curl_matches_pbrt_v4() {
     };
     let name = "hair-curl-300";
     let refs = shared.join("refs");
-    let reference = Image::read(&refs.join(format!("{name}-ref.exr"))).expect("reference image");
-    let pbrt_256 = Image::read(&refs.join(format!("{name}-256.exr"))).expect("pbrt render");
+    let reference = Image::read(refs.join(format!("{name}-ref.exr"))).expect("reference image");
+    let pbrt_256 = Image::read(refs.join(format!("{name}-256.exr"))).expect("pbrt render");
     let spp = 1024;
     let (ours, seconds) = render(&shared, name, spp);
     let (x, r) = (ours.rgb_data(), reference.rgb_data());
