@@ -20,9 +20,9 @@
 //! view while the curve's does not), nor is the diffraction lobe (its
 //! width follows D(φ_o) only), nor pbrt's own cuticle tilts.
 //!
-//! `axis` is the azimuth of the ellipse's major axis in the local frame
-//! (the same φ = atan2(z, y) as ω's), set by the material from a frame that
-//! does not turn with the view.
+//! `axis` is the direction of the ellipse's major axis in the local frame
+//! (at the same azimuth φ = atan2(z, y) as ω's), set by the material from a
+//! frame that does not turn with the view ([`axis_from_reference`]).
 
 use super::hair::{
     choose_lobe, sample_longitudinal, sample_trimmed_logistic, trimmed_logistic, wrap_angle,
@@ -35,7 +35,7 @@ use super::hair_ellipse::{Attenuation, Ellipse, InternalFresnel, Optics, Variant
 use crate::math::fast_atan2::fast_atan2;
 use crate::math::{safe_sqrt, sqr};
 use crate::spectrum::{SampledSpectrum, N_SPECTRUM_SAMPLES};
-use glam::{Vec2, Vec3};
+use glam::{DVec2, Vec2, Vec3};
 use std::f32::consts::PI;
 
 /// The model's wavelength-independent parameters (per material).
@@ -80,13 +80,26 @@ impl DualHairParams {
     }
 }
 
+/// The major axis's direction (cos, sin of its azimuth φ = atan2(z, y)) in
+/// the BxDF's local frame, at `orientation` (cos, sin) from a reference
+/// direction whose local (y, z) are given (φ = π/2 when the reference is
+/// along the fibre). A direction, not an angle: the trace starts from one,
+/// so a path vertex takes no sine and cosine.
+pub fn axis_from_reference(y: f32, z: f32, orientation: Vec2) -> Vec2 {
+    Vec2::new(y, z)
+        .try_normalize()
+        .unwrap_or(Vec2::Y)
+        .rotate(orientation)
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DualHairBxDF {
     /// pbrt's model: roughness, tilts, η, σ_a; its `h` is the offset across
     /// the outer width.
     base: HairBxDF,
     params: DualHairParams,
-    axis: f32,
+    /// The major axis's direction ([`axis_from_reference`]).
+    axis: Vec2,
     /// The path's wavelengths (nm), for spectral diffraction.
     lambda: [f32; N_SPECTRUM_SAMPLES],
     /// The trace through the cross-section for the ω_o the BxDF was made
@@ -103,20 +116,25 @@ enum Hit {
         phi: [f32; LOBES],
         a: [SampledSpectrum; LOBES + 1],
     },
-    /// Through the diffracting ring: the fibre's projected width in µm.
-    Ring { d_um: f32 },
+    /// Through the diffracting ring: the fibre's projected width in µm,
+    /// and ω_o's azimuth (the lobe's centre is opposite it).
+    Ring { d_um: f32, phi_o: f32 },
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Local {
     sin_theta_o: f32,
     cos_theta_o: f32,
-    phi_o: f32,
     hit: Hit,
 }
 
 impl DualHairBxDF {
-    pub fn new(base: HairBxDF, params: DualHairParams, axis: f32, lambda: [f32; 4]) -> Self {
+    pub fn new(
+        base: HairBxDF,
+        params: DualHairParams,
+        axis: Vec2,
+        lambda: [f32; 4],
+    ) -> Self {
         DualHairBxDF {
             base,
             params,
@@ -147,8 +165,6 @@ impl DualHairBxDF {
     fn local(&self, wo: Vec3) -> Local {
         let sin_theta_o = wo.x.clamp(-1.0, 1.0);
         let cos_theta_o = safe_sqrt(1.0 - sqr(sin_theta_o));
-        let phi_o = fast_atan2(wo.z, wo.y);
-        let phi_e = phi_o - self.axis;
         let h = self.base.h * (1.0 + self.params.d_diff);
         let hit = if h.abs() <= 1.0 {
             let optics = Optics::new(self.base.eta, sin_theta_o);
@@ -158,15 +174,23 @@ impl DualHairBxDF {
                 optics.cos_theta_t,
                 self.params.variant == Variant::Exact,
             );
+            // The direction towards ω_o's azimuth from the major axis:
+            // (y, z) of ω_o turned back by the axis.
+            let w = DVec2::new(wo.y as f64, wo.z as f64)
+                .try_normalize()
+                .unwrap_or(DVec2::X);
+            let axis = self.axis.as_dvec2();
+            let toward_o = w.rotate(axis * DVec2::new(1.0, -1.0));
             let end = self.params.ellipse.trace_into(
-                phi_e,
+                toward_o,
+                axis,
                 h,
                 &optics,
                 self.params.variant,
                 self.params.internal_fresnel,
                 |k, exit| {
                     if k < LOBES {
-                        phi[k] = exit.phi + self.axis;
+                        phi[k] = exit.phi;
                     }
                     a.add(k, &exit);
                 },
@@ -176,14 +200,17 @@ impl DualHairBxDF {
                 a: a.finish(&end),
             }
         } else {
+            let phi_o = fast_atan2(wo.z, wo.y);
             Hit::Ring {
-                d_um: self.params.width_um(phi_e),
+                d_um: self
+                    .params
+                    .width_um(phi_o - fast_atan2(self.axis.y, self.axis.x)),
+                phi_o,
             }
         };
         Local {
             sin_theta_o,
             cos_theta_o,
-            phi_o,
             hit,
         }
     }
@@ -284,8 +311,8 @@ impl DualHairBxDF {
                 cos_theta_i,
                 phi_i,
             ),
-            Hit::Ring { d_um } => {
-                let delta = wrap_angle(phi_i - l.phi_o - PI);
+            Hit::Ring { d_um, phi_o } => {
+                let delta = wrap_angle(phi_i - phi_o - PI);
                 self.n_diff(*d_um, delta) * self.m_residual(l, sin_theta_i, cos_theta_i)
             }
         };
@@ -302,8 +329,8 @@ impl DualHairBxDF {
                 let w = Self::lobe_pdf(a);
                 self.lobe_sum(l, phi, &w, 0.0, sin_theta_i, cos_theta_i, phi_i)
             }
-            Hit::Ring { d_um } => {
-                let delta = wrap_angle(phi_i - l.phi_o - PI);
+            Hit::Ring { d_um, phi_o } => {
+                let delta = wrap_angle(phi_i - phi_o - PI);
                 self.n_diff_pdf(*d_um, delta) * self.m_residual(l, sin_theta_i, cos_theta_i)
             }
         }
@@ -326,11 +353,13 @@ impl DualHairBxDF {
                 let phi_i = if p < LOBES {
                     phi[p] + self.base.sample_azimuthal_logistic(uc)
                 } else {
-                    l.phi_o + 2.0 * PI * uc
+                    // The residual's azimuth is uniform (ω_o's azimuth as
+                    // the origin, as pbrt's).
+                    fast_atan2(wo.z, wo.y) + 2.0 * PI * uc
                 };
                 (s, c, phi_i)
             }
-            Hit::Ring { d_um } => {
+            Hit::Ring { d_um, phi_o } => {
                 let (s, c) =
                     sample_longitudinal(u, self.base.m(P_MAX).v, l.sin_theta_o, l.cos_theta_o);
                 let delta = match self.params.diffraction {
@@ -343,7 +372,7 @@ impl DualHairBxDF {
                         sample_spectral((scaled - j as f32).clamp(0.0, 1.0), self.k(*d_um)[j])
                     }
                 };
-                (s, c, l.phi_o + PI + delta)
+                (s, c, phi_o + PI + delta)
             }
         };
         let wi = Vec3::new(
@@ -424,7 +453,7 @@ mod tests {
         DualHairBxDF::new(
             HairBxDF::new(h, 1.55, sigma_a, bm, bn, alpha),
             p,
-            axis,
+            Vec2::from_angle(axis),
             LAMBDA,
         )
     }
@@ -573,7 +602,7 @@ mod tests {
             let dual = DualHairBxDF::new(
                 pbrt,
                 DualHairParams::circular(25.0),
-                6.0 * rng.next_f32(),
+                Vec2::from_angle(6.0 * rng.next_f32()),
                 LAMBDA,
             );
             let wo = sample_uniform_sphere(rng.next_vec2());
@@ -644,7 +673,7 @@ mod tests {
             let b = bxdf(0.9, SampledSpectrum::ZERO, 0.3, 0.3, 0.0, p, 0.3);
             let wo = Vec3::new(0.2, 0.4, 0.89).normalize();
             let l = b.local(wo);
-            let Hit::Ring { d_um } = l.hit else {
+            let Hit::Ring { d_um, phi_o } = l.hit else {
                 panic!("h 0.9 with d_diff 1 is in the ring")
             };
             let width = 30.0 * p.logistic_scale(d_um);
@@ -662,7 +691,7 @@ mod tests {
             let mut observed = vec![0.0f64; bins + 2];
             for _ in 0..n {
                 if let Some(s) = b.sample(wo, rng.next_f32(), rng.next_vec2()) {
-                    observed[bin(wrap_angle(s.wi.z.atan2(s.wi.y) - l.phi_o - PI))] += 1.0;
+                    observed[bin(wrap_angle(s.wi.z.atan2(s.wi.y) - phi_o - PI))] += 1.0;
                 }
             }
             // Expected: the φ-marginal density (n_diff_pdf), integrated.
@@ -762,7 +791,7 @@ mod tests {
             let b = DualHairBxDF::new(
                 HairBxDF::new(0.3, eta, SampledSpectrum::splat(sigma), bm, 0.3, 2.0),
                 p,
-                0.4,
+                Vec2::from_angle(0.4),
                 LAMBDA,
             );
             finite(&b, wo, wi);

@@ -27,14 +27,15 @@ use crate::bxdfs::hair_diffraction::Diffraction;
 use crate::bxdfs::hair_ellipse::{Ellipse, InternalFresnel, Variant};
 use crate::error::{scene_error, Result};
 use crate::scene::params::ParamSet;
+use glam::Vec2;
 use pbrt_parser::ParamType;
 
 /// Radius of the circular fibre when no ellipse is given, µm.
 const DEFAULT_RADIUS_UM: f32 = 25.0;
 
-/// The dual model's parameters and the ellipse orientation (radians), or
-/// `None` when none of its parameters is given (pbrt's hair).
-pub fn read(p: &ParamSet) -> Result<Option<(DualHairParams, f32)>> {
+/// The dual model's parameters and the ellipse orientation (its cos, sin),
+/// or `None` when none of its parameters is given (pbrt's hair).
+pub fn read(p: &ParamSet) -> Result<Option<(DualHairParams, Vec2)>> {
     let number = |name: &str| -> Result<Option<(f32, pbrt_parser::Location)>> {
         let Some(param) = p.find(name, &[ParamType::Float])? else {
             return Ok(None);
@@ -130,6 +131,6 @@ pub fn read(p: &ParamSet) -> Result<Option<(DualHairParams, f32)>> {
     };
     Ok(Some((
         params,
-        orientation.map_or(0.0, |(o, _)| o.to_radians()),
+        Vec2::from_angle(orientation.map_or(0.0, |(o, _)| o.to_radians())),
     )))
 }

@@ -12,7 +12,7 @@
 //! | `hair` (dual model) | `ellipse_a`, `ellipse_b`, `d_diff`, `ellipse_orientation`, `diffraction`, `variant`, `internal_fresnel`: see [`dual_hair`] |
 //! | `interface` | none: marks a boundary between media; rays pass through |
 
-use crate::bxdfs::dual_hair::{DualHairBxDF, DualHairParams};
+use crate::bxdfs::dual_hair::{axis_from_reference, DualHairBxDF, DualHairParams};
 use crate::bxdfs::hair::{CircularHairBxDF, HairBxDF};
 use crate::bxdfs::{
     BxDF, CoatedDiffuseBxDF, ConductorBxDF, DielectricBxDF, DiffuseBxDF, DiffuseTransmissionBxDF,
@@ -102,9 +102,9 @@ pub enum Material {
         beta_m: FloatTexture,
         beta_n: FloatTexture,
         alpha: FloatTexture,
-        /// The dual model's parameters and ellipse orientation (radians);
+        /// The dual model's parameters and ellipse orientation (cos, sin);
         /// `None` is pbrt-v4's hair.
-        dual: Option<(DualHairParams, f32)>,
+        dual: Option<(DualHairParams, glam::Vec2)>,
     },
     CoatedDiffuse {
         reflectance: SpectrumTexture,
@@ -415,16 +415,11 @@ impl Material {
                         // (the shading normal where a shape has none), in
                         // the local frame's azimuth φ = atan2(z, y).
                         let r = frame.to_local(si.fiber_reference);
-                        let reference = if r.y == 0.0 && r.z == 0.0 {
-                            std::f32::consts::FRAC_PI_2
-                        } else {
-                            crate::math::fast_atan2::fast_atan2(r.z, r.y)
-                        };
                         BxDF::DualHair(
                             DualHairBxDF::new(
                                 base,
                                 *params,
-                                reference + orientation,
+                                axis_from_reference(r.y, r.z, *orientation),
                                 lambda.lambda,
                             )
                             .with_outgoing(wo),
