@@ -75,7 +75,8 @@ fn make_for(kind: &str, h: f32, wo: Option<Vec3>) -> BxDF {
             } else {
                 Diffraction::Spectral
             };
-            let dual = DualHairBxDF::new(base, params(diffraction), 0.4, lambda);
+            let axis = glam::Vec2::from_angle(0.4);
+            let dual = DualHairBxDF::new(base, params(diffraction), axis, lambda);
             BxDF::DualHair(match wo {
                 Some(wo) => dual.with_outgoing(wo),
                 None => dual,
