@@ -111,3 +111,31 @@ fn curves_widen_by_the_diffracting_cylinder() {
         "{dual:?}"
     );
 }
+
+/// An elliptical fibre is oriented by a direction across the strand that
+/// no view changes: two rays from different sides meet the same reference
+/// at the same point. pbrt's circular hair needs none, and its hits carry
+/// none (the build skips the strand's frame).
+#[test]
+fn elliptical_fibres_get_a_view_independent_reference() {
+    use glam::Vec3;
+    use rpbrt::math::ray::Ray;
+    let reference_from = |material: &str, origin: Vec3, direction: Vec3| {
+        let text = format!("{HEADER}{material}\nShape \"curve\" \"point3 P\" [ 0 0 5  1 0 5  2 0 5  3 0 5 ] \"float width\" 0.1 \"string type\" \"cylinder\"\n");
+        let loaded = scene::load_text(Path::new("hair.pbrt"), &text).expect("loads");
+        let built =
+            scene::build::build(&loaded.scene, &RenderOverrides::default()).expect("builds");
+        let (si, _) = built
+            .intersect(&Ray::new(origin, direction, 0.0), f32::INFINITY)
+            .expect("the ray hits the curve");
+        si.fiber_reference
+    };
+    let elliptical = "Material \"hair\" \"float ellipse_a\" 30 \"float ellipse_b\" 20";
+    let front = reference_from(elliptical, Vec3::new(1.5, 0.0, 0.0), Vec3::Z);
+    let side = reference_from(elliptical, Vec3::new(1.5, 3.0, 5.0), -Vec3::Y);
+    assert!((front.length() - 1.0).abs() < 1e-5, "{front}");
+    assert!(front.x.abs() < 1e-5, "across the strand: {front}");
+    assert!((front - side).length() < 1e-5, "{front} vs {side}");
+    let circular = reference_from("Material \"hair\"", Vec3::new(1.5, 0.0, 0.0), Vec3::Z);
+    assert_eq!(circular, Vec3::ZERO);
+}

@@ -186,6 +186,13 @@ impl Material {
         }
     }
 
+    /// Whether hits need a view-independent direction across the curve
+    /// (`SurfaceInteraction::fiber_reference`): an elliptical fibre of the
+    /// dual hair model is oriented by it.
+    pub fn needs_fibre_frame(&self) -> bool {
+        matches!(self, Material::Hair { dual: Some((params, _)), .. } if params.ellipse.a != params.ellipse.b)
+    }
+
     pub fn create(
         entity: &Entity,
         textures: &NamedTextures,

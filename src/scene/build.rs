@@ -397,6 +397,9 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
         if widening != 1.0 {
             shapes.scale_curve_widths(&created, widening);
         }
+        if materials[material as usize].needs_fibre_frame() {
+            shapes.set_fibre_frames(&created);
+        }
         let area = match shape.area_light {
             Some(a) if matches!(materials[material as usize], Material::Interface) => {
                 warnings.push(Warning {

@@ -58,8 +58,13 @@ pub struct CurveSegment {
     /// transform).
     pub flip_normal: bool,
     /// View-independent direction across the strand at u = 0 and 1
-    /// (see `curve_frame`).
+    /// (see `curve_frame`), set only for curves whose material needs it
+    /// (`fibre_frame`).
     pub reference: [Vec3; 2],
+    /// Whether hits carry a view-independent reference direction (an
+    /// elliptical fibre's orientation; `ShapeStorage::set_fibre_frames`).
+    /// pbrt's hair needs none, so its hits skip the interpolation.
+    pub fibre_frame: bool,
 }
 
 /// A piece [u0, u1] of a segment: the BVH primitive.
@@ -432,7 +437,11 @@ impl CurveHit {
             dpdu,
             dpdv,
             curve_h: -1.0 + 2.0 * self.v,
-            fiber_reference: super::curve_frame::reference_at(segment, self.u, dpdu, self.n_hit),
+            fiber_reference: if segment.fibre_frame {
+                super::curve_frame::reference_at(segment, self.u, dpdu, self.n_hit)
+            } else {
+                Vec3::ZERO
+            },
             ..Default::default()
         };
         si.shading = crate::interaction::Shading {
@@ -528,7 +537,6 @@ pub fn create_curves(
     let flip_normal = reverse_orientation ^ m.swaps_handedness();
     let to_render = |q: DVec3| m.point(q).as_vec3();
     let lerp = |t: f64, a: DVec3, b: DVec3| a + (b - a) * t;
-    let first_segment = segments.len();
     for seg in 0..segments_count {
         let bez: [DVec3; 4] = match (basis.as_str(), degree) {
             ("bezier", 3) => [
@@ -593,6 +601,7 @@ pub fn create_curves(
             inv_sin_normal_angle: if angle > 0.0 { 1.0 / angle.sin() } else { 0.0 },
             flip_normal,
             reference: [Vec3::ZERO; 2],
+            fibre_frame: false,
         };
         if segments.len() >= MAX_SEGMENTS {
             return scene_error(
@@ -604,7 +613,6 @@ pub fn create_curves(
         split_into_pieces(&segment, segment_index, split_depth, pieces);
         segments.push(segment);
     }
-    super::curve_frame::transport(&mut segments[first_segment..]);
     Ok(())
 }
 
@@ -684,6 +692,7 @@ mod tests {
             inv_sin_normal_angle: 0.0,
             flip_normal: false,
             reference: [Vec3::ZERO; 2],
+            fibre_frame: false,
         };
         let mut pieces = Vec::new();
         split_into_pieces(&s, 0, split_depth, &mut pieces);

@@ -97,6 +97,7 @@ mod tests {
             inv_sin_normal_angle: 0.0,
             flip_normal: false,
             reference: [Vec3::ZERO; 2],
+            fibre_frame: false,
         }
     }
 

@@ -90,6 +90,25 @@ impl ShapeStorage {
         }
     }
 
+    /// Gives the strand made of the curve pieces `shapes` (one `Shape
+    /// "curve"`: consecutive segments) its view-independent frame, for a
+    /// material that orients the fibre by it (`curve_frame`).
+    pub fn set_fibre_frames(&mut self, shapes: &[Shape]) {
+        let mut segments = shapes.iter().filter_map(|shape| match shape {
+            Shape::Curve(c) => Some(self.curve_pieces[*c as usize].segment() as usize),
+            _ => None,
+        });
+        let Some(first) = segments.next() else {
+            return;
+        };
+        let last = segments.last().unwrap_or(first);
+        let strand = &mut self.curve_segments[first..=last];
+        curve_frame::transport(strand);
+        for segment in strand {
+            segment.fibre_frame = true;
+        }
+    }
+
     pub fn curve(&self, piece: u32) -> (&curve::CurvePiece, &curve::CurveSegment) {
         let p = &self.curve_pieces[piece as usize];
         (p, &self.curve_segments[p.segment() as usize])
