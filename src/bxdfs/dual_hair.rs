@@ -111,10 +111,12 @@ pub struct DualHairBxDF {
 /// Where the camera ray went, and what that means for ω_o.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Hit {
-    /// Into the fibre: the lobes' exit azimuths (local frame) and A_0…A_3.
+    /// Into the fibre: the lobes' exit azimuths (local frame), A_0…A_3 and
+    /// the lobe-selection probabilities.
     Fibre {
         phi: [f32; LOBES],
         a: [SampledSpectrum; LOBES + 1],
+        pdf: [f32; P_MAX + 1],
     },
     /// Through the diffracting ring: the fibre's projected width in µm,
     /// and ω_o's azimuth (the lobe's centre is opposite it).
@@ -125,6 +127,8 @@ enum Hit {
 struct Local {
     sin_theta_o: f32,
     cos_theta_o: f32,
+    /// sin θ_o, cos θ_o tilted for R, TT and TRT (the cuticle scales).
+    tilted: [(f32, f32); LOBES],
     hit: Hit,
 }
 
@@ -195,9 +199,11 @@ impl DualHairBxDF {
                     a.add(k, &exit);
                 },
             );
+            let a = a.finish(&end);
             Hit::Fibre {
                 phi,
-                a: a.finish(&end),
+                pdf: Self::lobe_pdf(&a),
+                a,
             }
         } else {
             let phi_o = fast_atan2(wo.z, wo.y);
@@ -211,6 +217,7 @@ impl DualHairBxDF {
         Local {
             sin_theta_o,
             cos_theta_o,
+            tilted: std::array::from_fn(|p| self.base.tilted(p, sin_theta_o, cos_theta_o)),
             hit,
         }
     }
@@ -283,7 +290,7 @@ impl DualHairBxDF {
     ) -> T {
         let mut sum = zero;
         for p in 0..LOBES {
-            let (sin_o, cos_o) = self.base.tilted(p, l.sin_theta_o, l.cos_theta_o);
+            let (sin_o, cos_o) = l.tilted[p];
             let m = self.base.m(p).eval(cos_theta_i, cos_o, sin_theta_i, sin_o);
             let n = self.base.azimuthal_logistic(wrap_angle(phi_i - phi[p]));
             sum += w[p] * (m * n);
@@ -302,7 +309,7 @@ impl DualHairBxDF {
         let cos_theta_i = safe_sqrt(1.0 - sqr(sin_theta_i));
         let phi_i = fast_atan2(wi.z, wi.y);
         let mut f = match &l.hit {
-            Hit::Fibre { phi, a } => self.lobe_sum(
+            Hit::Fibre { phi, a, .. } => self.lobe_sum(
                 l,
                 phi,
                 a,
@@ -325,9 +332,8 @@ impl DualHairBxDF {
 
     fn pdf_local(&self, l: &Local, sin_theta_i: f32, cos_theta_i: f32, phi_i: f32) -> f32 {
         match &l.hit {
-            Hit::Fibre { phi, a } => {
-                let w = Self::lobe_pdf(a);
-                self.lobe_sum(l, phi, &w, 0.0, sin_theta_i, cos_theta_i, phi_i)
+            Hit::Fibre { phi, pdf, .. } => {
+                self.lobe_sum(l, phi, pdf, 0.0, sin_theta_i, cos_theta_i, phi_i)
             }
             Hit::Ring { d_um, phi_o } => {
                 let delta = wrap_angle(phi_i - phi_o - PI);
@@ -342,13 +348,16 @@ impl DualHairBxDF {
     pub fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<HairSample> {
         let l = self.local_for(wo);
         let (sin_theta_i, cos_theta_i, phi_i) = match &l.hit {
-            Hit::Fibre { phi, a } => {
-                let pdf = Self::lobe_pdf(a);
+            Hit::Fibre { phi, pdf, .. } => {
                 if pdf.iter().all(|&p| p <= 0.0) {
                     return None;
                 }
-                let (p, uc) = choose_lobe(&pdf, uc);
-                let (sin_o, cos_o) = self.base.tilted(p, l.sin_theta_o, l.cos_theta_o);
+                let (p, uc) = choose_lobe(pdf, uc);
+                let (sin_o, cos_o) = if p < LOBES {
+                    l.tilted[p]
+                } else {
+                    (l.sin_theta_o, l.cos_theta_o)
+                };
                 let (s, c) = sample_longitudinal(u, self.base.m(p).v, sin_o, cos_o);
                 let phi_i = if p < LOBES {
                     phi[p] + self.base.sample_azimuthal_logistic(uc)

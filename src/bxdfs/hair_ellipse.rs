@@ -457,8 +457,8 @@ pub struct Attenuation {
     k: SampledSpectrum,
     a: [SampledSpectrum; LOBES + 1],
     residual: bool,
-    /// The last later exit's transmittance that was computed, and its path
-    /// length (the tail starts at the last traced exit).
+    /// The last transmittance computed, and its path length (the tail
+    /// starts at the last traced exit, most often TRT's).
     last: (SampledSpectrum, f32),
     /// The path length at the last exit added.
     end_length: f32,
@@ -487,17 +487,25 @@ impl Attenuation {
         if k == 0 {
             // R never enters the fibre (length 0, T = 1).
             self.a[0] = SampledSpectrum::splat(exit.escape);
-        } else if k < LOBES {
-            self.a[k] = self.transmit(exit.length) * exit.escape;
-        } else if self.residual && exit.escape > 0.0 {
-            // Exits trapped by total internal reflection pass nothing out
-            // and need no transmittance.
-            self.last = (self.transmit(exit.length), exit.length);
-            self.a[LOBES] += self.last.0 * exit.escape;
+            return;
+        }
+        // Exits trapped by total internal reflection pass nothing out and
+        // need no transmittance.
+        let lobe = k < LOBES;
+        if !(lobe || self.residual && exit.escape > 0.0) {
+            return;
+        }
+        self.last = (self.transmit(exit.length), exit.length);
+        let out = self.last.0 * exit.escape;
+        if lobe {
+            self.a[k] = out;
+        } else {
+            self.a[LOBES] += out;
         }
     }
 
     /// The attenuations, with the geometric tail after the last exit.
+    #[inline]
     pub fn finish(mut self, end: &TraceEnd) -> [SampledSpectrum; LOBES + 1] {
         // Tail: the power left inside escapes at the traced later exits'
         // mean rate ē per chord of mean length ℓ̄, absorbed on the way:

@@ -171,15 +171,16 @@ mod tests {
     fn the_enum_stays_small_enough_to_pass_by_value() {
         // Per-intersection values: keep them in a few cache lines. The
         // largest are the hair models, which carry their state for the
-        // hit's ωo (the dual model's cross-section trace, ~90 bytes; the
-        // circular model's A_p and angles, ~150 bytes) so that f, pdf and
-        // sample do not compute it again (benches/hair.rs, "vertex").
+        // hit's ωo (the dual model's trace results, tilts and lobe
+        // probabilities, ~130 bytes; the circular model's A_p and angles,
+        // ~150 bytes) so that f, pdf and sample do not compute it again
+        // (benches/hair.rs, "vertex"); five cache lines.
         let size = std::mem::size_of::<BxDF>();
         eprintln!(
             "BxDF {size} bytes (circular hair {}, dual hair {})",
             std::mem::size_of::<hair::CircularHairBxDF>(),
             std::mem::size_of::<dual_hair::DualHairBxDF>()
         );
-        assert!(size <= 256, "{size}");
+        assert!(size <= 320, "{size}");
     }
 }

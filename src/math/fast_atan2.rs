@@ -29,17 +29,16 @@ pub fn fast_atan2(y: f32, x: f32) -> f32 {
     let (ax, ay) = (x.abs(), y.abs());
     let swap = ay > ax;
     let (num, den) = if swap { (ax, ay) } else { (ay, ax) };
-    let t = if den == 0.0 {
-        0.0
-    } else if den.is_infinite() {
-        if num.is_infinite() {
-            1.0
-        } else {
-            0.0
+    let mut t = num / den;
+    // The rare cases, off the common path: a NaN input (its ratio is NaN),
+    // both coordinates zero (0/0: the angle of ±0) or both infinite (∞/∞:
+    // the diagonal).
+    if t.is_nan() {
+        if x.is_nan() || y.is_nan() {
+            return f32::NAN;
         }
-    } else {
-        num / den
-    };
+        t = if num == 0.0 { 0.0 } else { 1.0 };
+    }
     let t2 = t * t;
     let mut p = A[7];
     for &c in A[..7].iter().rev() {
@@ -51,9 +50,6 @@ pub fn fast_atan2(y: f32, x: f32) -> f32 {
     }
     if x.is_sign_negative() {
         r = PI - r;
-    }
-    if x.is_nan() || y.is_nan() {
-        return f32::NAN;
     }
     r.copysign(y)
 }
