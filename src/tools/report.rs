@@ -60,6 +60,10 @@ pub struct ReportArgs {
     /// Samples per pixel of the dual-model (Table 2) renders.
     #[arg(long, default_value_t = 64)]
     pub dual_spp: u32,
+    /// Rounds of the dual-model renders (each round renders every variant
+    /// once, with its own seed).
+    #[arg(long, default_value_t = 7)]
+    pub dual_repeat: u32,
 }
 
 /// One row of the refs README's figures table.
@@ -448,8 +452,9 @@ fn dual_model_section(args: &ReportArgs, threads: usize) -> Result<String, Error
         std::fs::write(&path, body).map_err(io_error(&path))?;
         scenes.push(path);
     }
+    let rounds = args.dual_repeat.max(1);
     let mut seconds: Vec<Vec<f64>> = vec![Vec::new(); variants.len()];
-    for k in 0..args.repeat.max(1) {
+    for k in 0..rounds {
         for (i, scene) in scenes.iter().enumerate() {
             let overrides = RenderOverrides {
                 spp: Some(args.dual_spp),
@@ -464,17 +469,27 @@ fn dual_model_section(args: &ReportArgs, threads: usize) -> Result<String, Error
         }
     }
     let medians: Vec<f64> = seconds
-        .into_iter()
-        .map(|s| median(s).unwrap_or(0.0))
+        .iter()
+        .map(|s| median(s.clone()).unwrap_or(0.0))
         .collect();
+    // Ratios within a round (renders minutes apart on a host whose speed
+    // drifts), then their median.
+    let ratio = |i: usize, j: usize| {
+        let per_round = seconds[i]
+            .iter()
+            .zip(&seconds[j])
+            .map(|(a, b)| a / b.max(1e-9))
+            .collect();
+        median(per_round).unwrap_or(0.0)
+    };
     let _ = writeln!(
         text,
-        "Whole-render seconds (median of {} seeds, {} spp, {threads} threads, steal removed), rpbrt only, on \
-         `pbrt-scenes/hair-dual-circular.pbrt` with the material's dual-model parameters varied (the paper's Table 2 \
-         compares its dual model with the circular, ray-only model of [CBTB16] in the same way). d_diff = 1 doubles \
-         the curves' width, so more of the image is hair; the last column compares those rows with circular hair on \
-         curves of that doubled width, which isolates the model's own cost.\n",
-        args.repeat.max(1),
+        "Whole-render seconds (median of {rounds} rounds, one seed each, {} spp, {threads} threads, steal removed), \
+         rpbrt only, on `pbrt-scenes/hair-dual-circular.pbrt` with the material's dual-model parameters varied (the \
+         paper's Table 2 compares its dual model with the circular, ray-only model of [CBTB16] in the same way). \
+         The ratios are medians of the ratios within a round. d_diff = 1 doubles the curves' width, so more of the \
+         image is hair; the last column compares those rows with circular hair on curves of that doubled width, \
+         which isolates the model's own cost.\n",
         args.dual_spp
     );
     let _ = writeln!(
@@ -486,11 +501,8 @@ fn dual_model_section(args: &ReportArgs, threads: usize) -> Result<String, Error
             text,
             "| {label} | {:.2} | {:.3}× | {} |",
             medians[i],
-            medians[i] / medians[0].max(1e-9),
-            same_geometry.map_or("—".to_string(), |j| format!(
-                "{:.3}×",
-                medians[i] / medians[j].max(1e-9)
-            ))
+            ratio(i, 0),
+            same_geometry.map_or("—".to_string(), |j| format!("{:.3}×", ratio(i, j)))
         );
     }
     Ok(text)
