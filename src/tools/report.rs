@@ -396,6 +396,9 @@ fn dual_model_section(args: &ReportArgs, threads: usize) -> Result<String, Error
     let wide_strands = work.join("strands-doubled-width.pbrt");
     std::fs::write(&wide_strands, scale_widths(&strands_text, 2.0)?)
         .map_err(io_error(&wide_strands))?;
+    let paper_strands = work.join("strands-1.2-width.pbrt");
+    std::fs::write(&paper_strands, scale_widths(&strands_text, 1.2)?)
+        .map_err(io_error(&paper_strands))?;
     const MATERIAL: &str =
         "Material \"hair\" \"float eumelanin\" [ 0.8 ] \"float beta_m\" [ 0.25 ]";
     if !scene_text.contains(MATERIAL) {
@@ -407,7 +410,7 @@ fn dual_model_section(args: &ReportArgs, threads: usize) -> Result<String, Error
     // (label, extra material parameters, strands file, the row that has
     // the same geometry: what the last column divides by)
     const ELLIPSE: &str = "\"float ellipse_a\" 30 \"float ellipse_b\" 20";
-    let variants: [(&str, String, &Path, Option<usize>); 5] = [
+    let variants: [(&str, String, &Path, Option<usize>); 7] = [
         (
             "circular (pbrt-v4's hair)",
             String::new(),
@@ -421,6 +424,18 @@ fn dual_model_section(args: &ReportArgs, threads: usize) -> Result<String, Error
             Some(0),
         ),
         (
+            "circular, curves 1.2× wide",
+            String::new(),
+            &paper_strands,
+            None,
+        ),
+        (
+            "dual: elliptical + d_diff = 0.2, logistic diffraction (the paper's figures)",
+            format!("{ELLIPSE} \"float d_diff\" 0.2"),
+            &strands,
+            Some(2),
+        ),
+        (
             "circular, curves 2× wide",
             String::new(),
             &wide_strands,
@@ -430,13 +445,13 @@ fn dual_model_section(args: &ReportArgs, threads: usize) -> Result<String, Error
             "dual: elliptical + d_diff = 1, logistic diffraction",
             format!("{ELLIPSE} \"float d_diff\" 1"),
             &strands,
-            Some(2),
+            Some(4),
         ),
         (
             "dual: elliptical + d_diff = 1, spectral diffraction",
             format!("{ELLIPSE} \"float d_diff\" 1 \"string diffraction\" \"spectral\""),
             &strands,
-            Some(2),
+            Some(4),
         ),
     ];
     let mut scenes = Vec::new();
@@ -487,9 +502,10 @@ fn dual_model_section(args: &ReportArgs, threads: usize) -> Result<String, Error
         "Whole-render seconds (median of {rounds} rounds, one seed each, {} spp, {threads} threads, steal removed), \
          rpbrt only, on `pbrt-scenes/hair-dual-circular.pbrt` with the material's dual-model parameters varied (the \
          paper's Table 2 compares its dual model with the circular, ray-only model of [CBTB16] in the same way). \
-         The ratios are medians of the ratios within a round. d_diff = 1 doubles the curves' width, so more of the \
-         image is hair; the last column compares those rows with circular hair on curves of that doubled width, \
-         which isolates the model's own cost.\n",
+         The ratios are medians of the ratios within a round. d_diff widens the curves by 1 + d_diff, so more of \
+         the image is hair; the last column compares those rows with circular hair on curves of that width, which \
+         isolates the model's own cost (diffracted light is not absorbed, so paths also last longer: the paper's \
+         §7 notes the same).\n",
         args.dual_spp
     );
     let _ = writeln!(
