@@ -566,7 +566,11 @@ fn markdown(args: &ReportArgs, results: &[SceneResult], skipped: &[String], dual
          rpbrt's log–log error-over-time curve (the end segment extended when pbrt-v4's error lies outside rpbrt's \
          measured range, marked \"extrap.\"), divided by pbrt-v4's time at that spp. The pbrt-v4 time is the README's \
          **quiet median of 3** where it has one: its \"as rendered\" times were taken while other work shared the \
-         machine (up to 2.5× slower), so ratios against them, shown for the other sample counts, flatter rpbrt.{}\n\
+         machine (up to 2.5× slower), so ratios against them, shown for the other sample counts, flatter rpbrt. \
+         pbrt-v4's renders at a scene's listed sample counts share one seed, and its `sobol` sampler gives a pixel's \
+         i-th sample the same point at any spp, so each is the first samples of the next: one draw, not three. Where \
+         a few fireflies set the MRSE (hair-curl-300) that draw's luck sets the ratio; performance-notes.md compares \
+         the two renderers' tails of bright samples there instead.{}\n\
          - Parse: scene file → scene description; build: shapes, lights, materials and BVH (medians over the renders). \
          Peak memory: `VmHWM` of a separate `rpbrt --stats` process rendering the scene at 1 spp (the film and scene \
          dominate; it does not grow with spp).\n",
