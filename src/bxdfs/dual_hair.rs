@@ -133,12 +133,7 @@ struct Local {
 }
 
 impl DualHairBxDF {
-    pub fn new(
-        base: HairBxDF,
-        params: DualHairParams,
-        axis: Vec2,
-        lambda: [f32; 4],
-    ) -> Self {
+    pub fn new(base: HairBxDF, params: DualHairParams, axis: Vec2, lambda: [f32; 4]) -> Self {
         DualHairBxDF {
             base,
             params,

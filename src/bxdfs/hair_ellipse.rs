@@ -282,9 +282,14 @@ impl Ellipse {
         let (sin_phi, cos_phi) = (phi_in as f64).sin_cos();
         let toward_in = DVec2::new(cos_phi, sin_phi);
         let mut exits = [Exit::default(); MAX_EXITS];
-        let end = self.trace_exits((toward_in, DVec2::X), h, optics, model, trapped_power, |k, e| {
-            exits[k] = e
-        });
+        let end = self.trace_exits(
+            (toward_in, DVec2::X),
+            h,
+            optics,
+            model,
+            trapped_power,
+            |k, e| exits[k] = e,
+        );
         Trace { exits, end }
     }
 
@@ -306,7 +311,14 @@ impl Ellipse {
         fresnel: InternalFresnel,
         on_exit: impl FnMut(usize, Exit),
     ) -> TraceEnd {
-        self.trace_exits((toward_in, turn), h, optics, (variant, fresnel), TRAPPED_POWER, on_exit)
+        self.trace_exits(
+            (toward_in, turn),
+            h,
+            optics,
+            (variant, fresnel),
+            TRAPPED_POWER,
+            on_exit,
+        )
     }
 
     fn trace_exits(
