@@ -101,7 +101,7 @@ impl ShapeStorage {
         let Some(first) = segments.next() else {
             return;
         };
-        let last = segments.last().unwrap_or(first);
+        let last = segments.next_back().unwrap_or(first);
         let strand = &mut self.curve_segments[first..=last];
         curve_frame::transport(strand);
         for segment in strand {
