@@ -139,3 +139,43 @@ fn elliptical_fibres_get_a_view_independent_reference() {
     let circular = reference_from("Material \"hair\"", Vec3::new(1.5, 0.0, 0.0), Vec3::Z);
     assert_eq!(circular, Vec3::ZERO);
 }
+
+/// A hair material with constant β_m, β_n and α makes their terms once at
+/// build time; with textured ones, at every hit. Both give the same BSDF.
+#[test]
+fn constant_and_textured_roughness_give_the_same_hair_bsdf() {
+    use glam::Vec3;
+    use rpbrt::bxdfs::TransportMode;
+    use rpbrt::math::ray::Ray;
+    use rpbrt::spectrum::SampledWavelengths;
+    use rpbrt::textures::TextureEvalContext;
+    let f = |material: &str| {
+        let text = format!("{HEADER}Texture \"half\" \"float\" \"scale\" \"float tex\" 0.8 \"float scale\" 0.5\nTexture \"tiny\" \"float\" \"scale\" \"float tex\" 0.002 \"float scale\" 0.5\n{material}\nShape \"curve\" \"point3 P\" [ 0 0 5  1 0 5  2 0 5  3 0 5 ] \"float width\" 0.1 \"string type\" \"cylinder\"\n");
+        let loaded = scene::load_text(Path::new("hair.pbrt"), &text).expect("loads");
+        let built =
+            scene::build::build(&loaded.scene, &RenderOverrides::default()).expect("builds");
+        let (si, prim) = built
+            .intersect(
+                &Ray::new(Vec3::new(1.5, 0.02, 0.0), Vec3::Z, 0.0),
+                f32::INFINITY,
+            )
+            .expect("the ray hits the curve");
+        let mut lambda = SampledWavelengths::sample_visible(0.3);
+        let bsdf = built.materials[prim.material as usize]
+            .bsdf(&si, &TextureEvalContext::at(&si), &mut lambda)
+            .expect("a BSDF");
+        // Across the strand, and straight through it (where TT peaks even
+        // for the narrowest lobes).
+        [Vec3::new(0.3, -0.2, -0.9), Vec3::new(0.0, 0.05, 1.0)]
+            .map(|wi| bsdf.f(si.wo, wi.normalize(), TransportMode::Radiance).0)
+    };
+    // β_m = 0.001 is below the clamp to 0.01, which both paths apply.
+    for (beta_m, texture) in [("0.4", "half"), ("0.001", "tiny")] {
+        for dual in ["", "\"float ellipse_a\" 30 \"float ellipse_b\" 20"] {
+            let constant = f(&format!("Material \"hair\" \"float beta_m\" {beta_m} \"float beta_n\" 0.4 \"float alpha\" 0.4 {dual}"));
+            let textured = f(&format!("Material \"hair\" \"texture beta_m\" \"{texture}\" \"texture beta_n\" \"half\" \"texture alpha\" \"half\" {dual}"));
+            assert!(constant.iter().flatten().any(|&v| v > 0.0), "{constant:?}");
+            assert_eq!(constant, textured, "β_m {beta_m} {dual}");
+        }
+    }
+}

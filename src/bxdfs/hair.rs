@@ -20,6 +20,47 @@ pub const P_MAX: usize = 3;
 /// √(π/8), from the logistic's variance.
 const SQRT_PI_OVER_8: f32 = 0.626_657_07;
 
+/// What [`HairBxDF`] derives from β_m, β_n and α alone: the same at every
+/// hit of a material whose roughness and tilt are constant (pbrt-v4
+/// recomputes them per hit: two exponentials per logistic bound, a sinh or
+/// a log per lobe, a sine; about a third of the BxDF's making).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct HairLobes {
+    longitudinal: [Longitudinal; P_MAX],
+    s: f32,
+    logistic_mass: f32,
+    logistic_cdf_low: f32,
+    sin_2k_alpha: [f32; 3],
+    cos_2k_alpha: [f32; 3],
+}
+
+impl HairLobes {
+    /// `beta_m`, `beta_n`: longitudinal and azimuthal roughness in [0, 1];
+    /// `alpha_degrees`: cuticle tilt.
+    pub fn new(beta_m: f32, beta_n: f32, alpha_degrees: f32) -> Self {
+        let v0 = sqr(0.726 * beta_m + 0.812 * sqr(beta_m) + 3.7 * beta_m.powi(20));
+        // R, TT, TRT; the residual's is TRT's.
+        let v = [v0, 0.25 * v0, 4.0 * v0];
+        let s = SQRT_PI_OVER_8 * (0.265 * beta_n + 1.194 * sqr(beta_n) + 5.372 * beta_n.powi(22));
+        let mut sin_2k_alpha = [0.0; 3];
+        let mut cos_2k_alpha = [0.0; 3];
+        sin_2k_alpha[0] = alpha_degrees.to_radians().sin();
+        cos_2k_alpha[0] = safe_sqrt(1.0 - sqr(sin_2k_alpha[0]));
+        for i in 1..3 {
+            sin_2k_alpha[i] = 2.0 * cos_2k_alpha[i - 1] * sin_2k_alpha[i - 1];
+            cos_2k_alpha[i] = sqr(cos_2k_alpha[i - 1]) - sqr(sin_2k_alpha[i - 1]);
+        }
+        HairLobes {
+            longitudinal: v.map(Longitudinal::new),
+            s,
+            logistic_mass: logistic_cdf(PI, s) - logistic_cdf(-PI, s),
+            logistic_cdf_low: logistic_cdf(-PI, s),
+            sin_2k_alpha,
+            cos_2k_alpha,
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HairBxDF {
     /// Offset across the fibre, −1…1.
@@ -247,29 +288,27 @@ impl HairBxDF {
         beta_n: f32,
         alpha_degrees: f32,
     ) -> Self {
-        let v0 = sqr(0.726 * beta_m + 0.812 * sqr(beta_m) + 3.7 * beta_m.powi(20));
-        // R, TT, TRT; the residual's is TRT's.
-        let v = [v0, 0.25 * v0, 4.0 * v0];
-        let s = SQRT_PI_OVER_8 * (0.265 * beta_n + 1.194 * sqr(beta_n) + 5.372 * beta_n.powi(22));
-        let mut sin_2k_alpha = [0.0; 3];
-        let mut cos_2k_alpha = [0.0; 3];
-        sin_2k_alpha[0] = alpha_degrees.to_radians().sin();
-        cos_2k_alpha[0] = safe_sqrt(1.0 - sqr(sin_2k_alpha[0]));
-        for i in 1..3 {
-            sin_2k_alpha[i] = 2.0 * cos_2k_alpha[i - 1] * sin_2k_alpha[i - 1];
-            cos_2k_alpha[i] = sqr(cos_2k_alpha[i - 1]) - sqr(sin_2k_alpha[i - 1]);
-        }
-        let longitudinal = v.map(Longitudinal::new);
+        Self::from_lobes(
+            h,
+            eta,
+            sigma_a,
+            &HairLobes::new(beta_m, beta_n, alpha_degrees),
+        )
+    }
+
+    /// The BxDF at offset h with the roughness and tilt terms of `lobes`
+    /// (which a material with constant roughness and tilt makes once).
+    pub fn from_lobes(h: f32, eta: f32, sigma_a: SampledSpectrum, lobes: &HairLobes) -> Self {
         HairBxDF {
             h,
             eta,
             sigma_a,
-            longitudinal,
-            s,
-            logistic_mass: logistic_cdf(PI, s) - logistic_cdf(-PI, s),
-            logistic_cdf_low: logistic_cdf(-PI, s),
-            sin_2k_alpha,
-            cos_2k_alpha,
+            longitudinal: lobes.longitudinal,
+            s: lobes.s,
+            logistic_mass: lobes.logistic_mass,
+            logistic_cdf_low: lobes.logistic_cdf_low,
+            sin_2k_alpha: lobes.sin_2k_alpha,
+            cos_2k_alpha: lobes.cos_2k_alpha,
         }
     }
 

@@ -13,7 +13,7 @@
 //! | `interface` | none: marks a boundary between media; rays pass through |
 
 use crate::bxdfs::dual_hair::{axis_from_reference, DualHairBxDF, DualHairParams};
-use crate::bxdfs::hair::{CircularHairBxDF, HairBxDF};
+use crate::bxdfs::hair::{CircularHairBxDF, HairBxDF, HairLobes};
 use crate::bxdfs::{
     BxDF, CoatedDiffuseBxDF, ConductorBxDF, DielectricBxDF, DiffuseBxDF, DiffuseTransmissionBxDF,
     ThinDielectricBxDF, TrowbridgeReitzDistribution, BSDF,
@@ -102,6 +102,9 @@ pub enum Material {
         beta_m: FloatTexture,
         beta_n: FloatTexture,
         alpha: FloatTexture,
+        /// The roughness and tilt terms, made once when β_m, β_n and α are
+        /// constant.
+        lobes: Option<HairLobes>,
         /// The dual model's parameters and ellipse orientation (cos, sin);
         /// `None` is pbrt-v4's hair.
         dual: Option<(DualHairParams, glam::Vec2)>,
@@ -313,15 +316,27 @@ impl Material {
                     }
                     (sigma_a, ..) => sigma_a,
                 };
+                let beta_m = tp.float_texture("beta_m", 0.3)?;
+                let beta_n = tp.float_texture("beta_n", 0.3)?;
+                let alpha = tp.float_texture("alpha", 2.0)?;
+                let lobes = match (&beta_m, &beta_n, &alpha) {
+                    (
+                        FloatTexture::Constant(bm),
+                        FloatTexture::Constant(bn),
+                        FloatTexture::Constant(a),
+                    ) => Some(HairLobes::new(bm.clamp(0.01, 1.0), bn.clamp(0.01, 1.0), *a)),
+                    _ => None,
+                };
                 Material::Hair {
                     sigma_a,
                     reflectance,
                     eumelanin,
                     pheomelanin,
                     eta: tp.float_texture("eta", 1.55)?,
-                    beta_m: tp.float_texture("beta_m", 0.3)?,
-                    beta_n: tp.float_texture("beta_n", 0.3)?,
-                    alpha: tp.float_texture("alpha", 2.0)?,
+                    beta_m,
+                    beta_n,
+                    alpha,
+                    lobes,
                     dual: dual_hair::read(p)?,
                 }
             }
@@ -391,6 +406,7 @@ impl Material {
                 beta_m,
                 beta_n,
                 alpha,
+                lobes,
                 dual,
             } => {
                 let bm = beta_m.evaluate(ctx).clamp(0.01, 1.0);
@@ -409,7 +425,8 @@ impl Material {
                     melanin_sigma_a(ce, cp).sample(lambda)
                 };
                 let h = -1.0 + 2.0 * si.uv.y;
-                let base = HairBxDF::new(h, eta.evaluate(ctx), sig_a, bm, bn, alpha.evaluate(ctx));
+                let lobes = lobes.unwrap_or_else(|| HairLobes::new(bm, bn, alpha.evaluate(ctx)));
+                let base = HairBxDF::from_lobes(h, eta.evaluate(ctx), sig_a, &lobes);
                 let circular = CircularHairBxDF::new(base);
                 // The BSDF's own frame, for ω_o in local space: both models
                 // compute what depends on ω_o alone once, here.
