@@ -130,15 +130,21 @@ impl Sphere {
     /// The object-space hit: the quadratic solved on intervals, so a root is
     /// only taken when its whole error interval lies in (0, t_max).
     fn basic_intersect(&self, ray: &Ray, t_max: f32) -> Option<QuadricHit> {
-        let (o, oi, d, di) = self.transform.ray_to_object(ray.origin, ray.direction);
         // Most rays that reach the sphere's box pass well clear of it: the
         // line's squared distance from the centre, in plain floats, with a
         // margin far above its rounding (the cancellation is of order
-        // 10⁻⁶ |o|²), rejects them before the interval arithmetic.
+        // 10⁻⁶ |o|²), rejects them before the transform with error bounds
+        // and the interval arithmetic.
+        let to_object = &self.transform.object_from_render;
+        let (o, d) = (
+            to_object.transform_point3(ray.origin),
+            to_object.transform_vector3(ray.direction),
+        );
         let (o2, od, d2) = (o.length_squared(), o.dot(d), d.length_squared());
         if o2 - od * od / d2 > 1.01 * self.radius * self.radius + 1e-4 * o2 {
             return None;
         }
+        let (o, oi, d, di) = self.transform.ray_to_object(ray.origin, ray.direction);
         let radius = Interval::exact(self.radius);
         let a = di.x.squared() + di.y.squared() + di.z.squared();
         let b = (di.x * oi.x + di.y * oi.y + di.z * oi.z).scaled(2.0);
