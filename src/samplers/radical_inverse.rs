@@ -7,21 +7,25 @@
 use super::digit_permutation::DigitPermutation;
 use super::hash::mix_bits;
 use super::permutation::permutation_element;
-use super::primes::{PRIMES, PRIME_TABLE_SIZE};
+use super::primes::{divide_by_prime, PRIMES, PRIME_RECIPROCALS, PRIME_TABLE_SIZE};
 use super::ONE_MINUS_EPSILON;
 
 fn base_of(base_index: usize) -> u64 {
     u64::from(PRIMES[base_index.min(PRIME_TABLE_SIZE - 1)])
 }
 
+fn reciprocal_of(base_index: usize) -> u64 {
+    PRIME_RECIPROCALS[base_index.min(PRIME_TABLE_SIZE - 1)]
+}
+
 /// The radical inverse of `index` in base `PRIMES[base_index]`.
 pub fn radical_inverse(base_index: usize, mut index: u64) -> f32 {
-    let base = base_of(base_index);
+    let (base, reciprocal) = (base_of(base_index), reciprocal_of(base_index));
     let inverse_base = 1.0 / base as f32;
     let mut inverse_base_power = 1.0f32;
     let mut reversed_digits = 0u64;
     while index != 0 {
-        let next = index / base;
+        let next = divide_by_prime(index, base, reciprocal);
         let digit = index - next * base;
         reversed_digits = reversed_digits.wrapping_mul(base).wrapping_add(digit);
         inverse_base_power *= inverse_base;
@@ -50,13 +54,13 @@ pub fn scrambled_radical_inverse(
     mut index: u64,
     permutation: &DigitPermutation,
 ) -> f32 {
-    let base = base_of(base_index);
+    let (base, reciprocal) = (base_of(base_index), reciprocal_of(base_index));
     let inverse_base = 1.0 / base as f32;
     let mut inverse_base_power = 1.0f32;
     let mut reversed_digits = 0u64;
     let mut digit_index = 0;
     while 1.0 - (base - 1) as f32 * inverse_base_power < 1.0 {
-        let next = index / base;
+        let next = divide_by_prime(index, base, reciprocal);
         let digit = (index - next * base) as u32;
         reversed_digits = reversed_digits
             .wrapping_mul(base)
@@ -71,12 +75,12 @@ pub fn scrambled_radical_inverse(
 /// The radical inverse with Owen scrambling: each digit is permuted by a
 /// permutation chosen by `hash` and all the digits before it.
 pub fn owen_scrambled_radical_inverse(base_index: usize, mut index: u64, hash: u32) -> f32 {
-    let base = base_of(base_index);
+    let (base, reciprocal) = (base_of(base_index), reciprocal_of(base_index));
     let inverse_base = 1.0 / base as f32;
     let mut inverse_base_power = 1.0f32;
     let mut reversed_digits = 0u64;
     while 1.0 - inverse_base_power < 1.0 {
-        let next = index / base;
+        let next = divide_by_prime(index, base, reciprocal);
         let digit = (index - next * base) as u32;
         let digit_hash = mix_bits(u64::from(hash) ^ reversed_digits) as u32;
         let digit = permutation_element(digit, base as u32, digit_hash);
