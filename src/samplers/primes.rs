@@ -65,8 +65,17 @@ mod tests {
         for (i, &p) in PRIMES.iter().enumerate() {
             let p = u64::from(p);
             let r = PRIME_RECIPROCALS[i];
-            let mut check = |n: u64| assert_eq!(divide_by_prime(n, p, r), n / p, "{n} / {p}");
-            for n in [0, 1, p - 1, p, p + 1, u64::from(u32::MAX), u64::from(u32::MAX) + 1, u64::MAX] {
+            let check = |n: u64| assert_eq!(divide_by_prime(n, p, r), n / p, "{n} / {p}");
+            for n in [
+                0,
+                1,
+                p - 1,
+                p,
+                p + 1,
+                u64::from(u32::MAX),
+                u64::from(u32::MAX) + 1,
+                u64::MAX,
+            ] {
                 check(n);
             }
             for _ in 0..2000 {
