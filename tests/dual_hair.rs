@@ -6,6 +6,16 @@ use std::path::Path;
 
 const HEADER: &str = "Camera \"perspective\"\nWorldBegin\n";
 
+/// A straight cylinder curve along x, 5 in front of the camera.
+const CURVE: &str = "Shape \"curve\" \"point3 P\" [ 0 0 5  1 0 5  2 0 5  3 0 5 ] \"float width\" 0.1 \"string type\" \"cylinder\"\n";
+
+/// The scene of `body` after the camera, built.
+fn built(body: &str) -> scene::build::BuiltScene {
+    let loaded =
+        scene::load_text(Path::new("hair.pbrt"), &format!("{HEADER}{body}")).expect("loads");
+    scene::build::build(&loaded.scene, &RenderOverrides::default()).expect("builds")
+}
+
 fn build(material: &str) -> Result<(), String> {
     let text = format!("{HEADER}{material}\nShape \"curve\" \"point3 P\" [ 0 0 0  1 0 0  2 0 0  3 0 0 ] \"float width\" 0.1\n");
     let loaded = scene::load_text(Path::new("hair.pbrt"), &text).map_err(|e| e.to_string())?;
@@ -92,11 +102,10 @@ fn valid_dual_hair_parameters_build() {
 #[test]
 fn curves_widen_by_the_diffracting_cylinder() {
     let width_of = |material: &str| {
-        let text = format!("{HEADER}{material}\nShape \"curve\" \"point3 P\" [ 0 0 0  1 0 0  2 0 0  3 0 0 ] \"float width\" 0.1\n");
-        let loaded = scene::load_text(Path::new("hair.pbrt"), &text).expect("loads");
-        let built =
-            scene::build::build(&loaded.scene, &RenderOverrides::default()).expect("builds");
-        built.shapes.curve_segments[0].width
+        built(&format!("{material}\nShape \"curve\" \"point3 P\" [ 0 0 0  1 0 0  2 0 0  3 0 0 ] \"float width\" 0.1\n"))
+            .shapes
+            .curve_segments[0]
+            .width
     };
     let plain = width_of("Material \"hair\"");
     let dual = width_of(
@@ -121,10 +130,7 @@ fn elliptical_fibres_get_a_view_independent_reference() {
     use glam::Vec3;
     use rpbrt::math::ray::Ray;
     let reference_from = |material: &str, origin: Vec3, direction: Vec3| {
-        let text = format!("{HEADER}{material}\nShape \"curve\" \"point3 P\" [ 0 0 5  1 0 5  2 0 5  3 0 5 ] \"float width\" 0.1 \"string type\" \"cylinder\"\n");
-        let loaded = scene::load_text(Path::new("hair.pbrt"), &text).expect("loads");
-        let built =
-            scene::build::build(&loaded.scene, &RenderOverrides::default()).expect("builds");
+        let built = built(&format!("{material}\n{CURVE}"));
         let (si, _) = built
             .intersect(&Ray::new(origin, direction, 0.0), f32::INFINITY)
             .expect("the ray hits the curve");
@@ -150,10 +156,7 @@ fn constant_and_textured_roughness_give_the_same_hair_bsdf() {
     use rpbrt::spectrum::SampledWavelengths;
     use rpbrt::textures::TextureEvalContext;
     let f = |material: &str| {
-        let text = format!("{HEADER}Texture \"half\" \"float\" \"scale\" \"float tex\" 0.8 \"float scale\" 0.5\nTexture \"tiny\" \"float\" \"scale\" \"float tex\" 0.002 \"float scale\" 0.5\n{material}\nShape \"curve\" \"point3 P\" [ 0 0 5  1 0 5  2 0 5  3 0 5 ] \"float width\" 0.1 \"string type\" \"cylinder\"\n");
-        let loaded = scene::load_text(Path::new("hair.pbrt"), &text).expect("loads");
-        let built =
-            scene::build::build(&loaded.scene, &RenderOverrides::default()).expect("builds");
+        let built = built(&format!("Texture \"half\" \"float\" \"scale\" \"float tex\" 0.8 \"float scale\" 0.5\nTexture \"tiny\" \"float\" \"scale\" \"float tex\" 0.002 \"float scale\" 0.5\n{material}\n{CURVE}"));
         let (si, prim) = built
             .intersect(
                 &Ray::new(Vec3::new(1.5, 0.02, 0.0), Vec3::Z, 0.0),
