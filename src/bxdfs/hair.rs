@@ -26,10 +26,17 @@ const SQRT_PI_OVER_8: f32 = 0.626_657_07;
 /// a log per lobe, a sine; about a third of the BxDF's making).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HairLobes {
+    /// M_p of R, TT and TRT: the variance v_p and the terms that follow
+    /// from it (the residual shares TRT's; see [`HairBxDF::m`]).
     longitudinal: [Longitudinal; P_MAX],
-    s: f32,
+    /// Logistic scale s of N_p.
+    pub(crate) s: f32,
+    /// The logistic's mass on [−π, π] and its CDF at −π for scale s: the
+    /// trimmed logistic's normalisation, which pbrt-v4 recomputes (two
+    /// exponentials) in every evaluation and sample.
     logistic_mass: f32,
     logistic_cdf_low: f32,
+    /// sin and cos of 2^k α, k = 0, 1, 2 (cuticle tilt shifts).
     sin_2k_alpha: [f32; 3],
     cos_2k_alpha: [f32; 3],
 }
@@ -69,19 +76,8 @@ pub struct HairBxDF {
     pub eta: f32,
     /// Absorption coefficient inside the fibre (per unit diameter).
     pub sigma_a: SampledSpectrum,
-    /// M_p of R, TT and TRT: the variance v_p and the terms that follow
-    /// from it (the residual shares TRT's; see [`HairBxDF::m`]).
-    longitudinal: [Longitudinal; P_MAX],
-    /// Logistic scale s of N_p.
-    pub(crate) s: f32,
-    /// The logistic's mass on [−π, π] and its CDF at −π for scale s: the
-    /// trimmed logistic's normalisation, which pbrt-v4 recomputes (two
-    /// exponentials) in every evaluation and sample.
-    logistic_mass: f32,
-    logistic_cdf_low: f32,
-    /// sin and cos of 2^k α, k = 0, 1, 2 (cuticle tilt shifts).
-    sin_2k_alpha: [f32; 3],
-    cos_2k_alpha: [f32; 3],
+    /// The roughness and tilt terms.
+    lobes: HairLobes,
 }
 
 /// A sampled direction.
@@ -303,35 +299,30 @@ impl HairBxDF {
             h,
             eta,
             sigma_a,
-            longitudinal: lobes.longitudinal,
-            s: lobes.s,
-            logistic_mass: lobes.logistic_mass,
-            logistic_cdf_low: lobes.logistic_cdf_low,
-            sin_2k_alpha: lobes.sin_2k_alpha,
-            cos_2k_alpha: lobes.cos_2k_alpha,
+            lobes: *lobes,
         }
     }
 
     /// M_p of lobe p (0…P_MAX; the residual's variance is TRT's).
     #[inline]
     pub(crate) fn m(&self, p: usize) -> &Longitudinal {
-        &self.longitudinal[p.min(P_MAX - 1)]
+        &self.lobes.longitudinal[p.min(P_MAX - 1)]
     }
 
     /// pbrt-v4's trimmed logistic on [−π, π] with scale s, its
     /// normalisation computed once (the same value bit for bit).
     pub(crate) fn azimuthal_logistic(&self, x: f32) -> f32 {
-        logistic(x, self.s) / self.logistic_mass
+        logistic(x, self.lobes.s) / self.lobes.logistic_mass
     }
 
     /// Samples [`HairBxDF::azimuthal_logistic`].
     pub(crate) fn sample_azimuthal_logistic(&self, u: f32) -> f32 {
         sample_logistic_in(
             u,
-            self.s,
+            self.lobes.s,
             (-PI, PI),
-            self.logistic_mass,
-            self.logistic_cdf_low,
+            self.lobes.logistic_mass,
+            self.lobes.logistic_cdf_low,
         )
     }
 
@@ -373,16 +364,16 @@ impl HairBxDF {
     pub(crate) fn tilted(&self, p: usize, sin_theta_o: f32, cos_theta_o: f32) -> (f32, f32) {
         let (s, c) = match p {
             0 => (
-                sin_theta_o * self.cos_2k_alpha[1] - cos_theta_o * self.sin_2k_alpha[1],
-                cos_theta_o * self.cos_2k_alpha[1] + sin_theta_o * self.sin_2k_alpha[1],
+                sin_theta_o * self.lobes.cos_2k_alpha[1] - cos_theta_o * self.lobes.sin_2k_alpha[1],
+                cos_theta_o * self.lobes.cos_2k_alpha[1] + sin_theta_o * self.lobes.sin_2k_alpha[1],
             ),
             1 => (
-                sin_theta_o * self.cos_2k_alpha[0] + cos_theta_o * self.sin_2k_alpha[0],
-                cos_theta_o * self.cos_2k_alpha[0] - sin_theta_o * self.sin_2k_alpha[0],
+                sin_theta_o * self.lobes.cos_2k_alpha[0] + cos_theta_o * self.lobes.sin_2k_alpha[0],
+                cos_theta_o * self.lobes.cos_2k_alpha[0] - sin_theta_o * self.lobes.sin_2k_alpha[0],
             ),
             2 => (
-                sin_theta_o * self.cos_2k_alpha[2] + cos_theta_o * self.sin_2k_alpha[2],
-                cos_theta_o * self.cos_2k_alpha[2] - sin_theta_o * self.sin_2k_alpha[2],
+                sin_theta_o * self.lobes.cos_2k_alpha[2] + cos_theta_o * self.lobes.sin_2k_alpha[2],
+                cos_theta_o * self.lobes.cos_2k_alpha[2] - sin_theta_o * self.lobes.sin_2k_alpha[2],
             ),
             _ => (sin_theta_o, cos_theta_o),
         };

@@ -10,7 +10,7 @@
 //! the melanin's RGB absorption (per mean semi-axis, as the material).
 
 use crate::bxdfs::dual_hair::DualHairParams;
-use crate::bxdfs::hair::{trimmed_logistic, wrap_angle, HairBxDF};
+use crate::bxdfs::hair::{trimmed_logistic, wrap_angle, HairBxDF, HairLobes};
 use crate::bxdfs::hair_diffraction::{spectral_integral, Diffraction};
 use crate::bxdfs::hair_ellipse::{h_averaged_row, Ellipse, InternalFresnel, Optics, Variant};
 use crate::spectrum::{cie_x, cie_y, cie_z};
@@ -133,17 +133,8 @@ impl BcsdfArgs {
 
     /// The logistic scale of the ray lobes.
     fn scale(&self) -> f32 {
-        self.logistic_scale.unwrap_or_else(|| {
-            HairBxDF::new(
-                0.0,
-                self.eta,
-                Default::default(),
-                self.beta_m,
-                self.beta_n.clamp(0.01, 1.0),
-                0.0,
-            )
-            .s
-        })
+        self.logistic_scale
+            .unwrap_or_else(|| HairLobes::new(self.beta_m, self.beta_n.clamp(0.01, 1.0), 0.0).s)
     }
 
     fn sigma_a(&self) -> f32 {
