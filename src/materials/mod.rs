@@ -409,7 +409,6 @@ impl Material {
                 lobes,
                 dual,
             } => {
-                let bm = beta_m.evaluate(ctx).clamp(0.01, 1.0);
                 let bn = beta_n.evaluate(ctx).clamp(0.01, 1.0);
                 // Precedence as pbrt-v4: σa, then reflectance, then melanin.
                 let sig_a = if let Some(s) = sigma_a {
@@ -425,7 +424,10 @@ impl Material {
                     melanin_sigma_a(ce, cp).sample(lambda)
                 };
                 let h = -1.0 + 2.0 * si.uv.y;
-                let lobes = lobes.unwrap_or_else(|| HairLobes::new(bm, bn, alpha.evaluate(ctx)));
+                let lobes = lobes.unwrap_or_else(|| {
+                    let bm = beta_m.evaluate(ctx).clamp(0.01, 1.0);
+                    HairLobes::new(bm, bn, alpha.evaluate(ctx))
+                });
                 let base = HairBxDF::from_lobes(h, eta.evaluate(ctx), sig_a, &lobes);
                 let circular = CircularHairBxDF::new(base);
                 // The BSDF's own frame, for ω_o in local space: both models
