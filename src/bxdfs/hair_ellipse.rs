@@ -35,8 +35,8 @@ pub const LOBES: usize = 3;
 /// ([`TRAPPED_POWER`]); after the last traced exit the rest escapes as a
 /// geometric tail with the mean chord and escape of the exits from
 /// [`TAIL_FROM`] (TRT) on.
-const TRACED_EXITS: usize = 3;
-const TAIL_FROM: usize = 2;
+const TRACED_EXITS: usize = LOBES;
+const TAIL_FROM: usize = LOBES - 1;
 
 /// Past [`TRACED_EXITS`], tracing goes on while more than this fraction of
 /// the entering power is still inside, up to [`MAX_EXITS`]. Light kept in

@@ -10,17 +10,16 @@ use super::permutation::permutation_element;
 use super::primes::{divide_by_prime, PRIMES, PRIME_RECIPROCALS, PRIME_TABLE_SIZE};
 use super::ONE_MINUS_EPSILON;
 
-fn base_of(base_index: usize) -> u64 {
-    u64::from(PRIMES[base_index.min(PRIME_TABLE_SIZE - 1)])
-}
-
-fn reciprocal_of(base_index: usize) -> u64 {
-    PRIME_RECIPROCALS[base_index.min(PRIME_TABLE_SIZE - 1)]
+/// The base `PRIMES[base_index]` (the last prime past the table) and its
+/// reciprocal for `divide_by_prime`.
+fn base_of(base_index: usize) -> (u64, u64) {
+    let i = base_index.min(PRIME_TABLE_SIZE - 1);
+    (u64::from(PRIMES[i]), PRIME_RECIPROCALS[i])
 }
 
 /// The radical inverse of `index` in base `PRIMES[base_index]`.
 pub fn radical_inverse(base_index: usize, mut index: u64) -> f32 {
-    let (base, reciprocal) = (base_of(base_index), reciprocal_of(base_index));
+    let (base, reciprocal) = base_of(base_index);
     let inverse_base = 1.0 / base as f32;
     let mut inverse_base_power = 1.0f32;
     let mut reversed_digits = 0u64;
@@ -54,7 +53,7 @@ pub fn scrambled_radical_inverse(
     mut index: u64,
     permutation: &DigitPermutation,
 ) -> f32 {
-    let (base, reciprocal) = (base_of(base_index), reciprocal_of(base_index));
+    let (base, reciprocal) = base_of(base_index);
     let inverse_base = 1.0 / base as f32;
     let mut inverse_base_power = 1.0f32;
     let mut reversed_digits = 0u64;
@@ -75,7 +74,7 @@ pub fn scrambled_radical_inverse(
 /// The radical inverse with Owen scrambling: each digit is permuted by a
 /// permutation chosen by `hash` and all the digits before it.
 pub fn owen_scrambled_radical_inverse(base_index: usize, mut index: u64, hash: u32) -> f32 {
-    let (base, reciprocal) = (base_of(base_index), reciprocal_of(base_index));
+    let (base, reciprocal) = base_of(base_index);
     let inverse_base = 1.0 / base as f32;
     let mut inverse_base_power = 1.0f32;
     let mut reversed_digits = 0u64;
