@@ -6,11 +6,12 @@
 //! index and the caller intersects it exactly.
 
 use crate::math::{Bounds3, Ray};
+use glam::UVec2;
 use glam::{Vec3, Vec3A};
 use obvhs::aabb::Aabb;
 use obvhs::cwbvh::builder::build_cwbvh;
+use obvhs::cwbvh::node::CwBvhNode;
 use obvhs::cwbvh::CwBvh;
-use obvhs::ray::RayHit;
 use obvhs::BvhBuildParams;
 
 /// Primitive count above which the BVH is built for build speed.
@@ -102,35 +103,102 @@ impl Bvh {
         &self,
         ray: &Ray,
         t_max: f32,
+        intersect: impl FnMut(usize, f32) -> Option<f32>,
+    ) -> Option<(usize, f32)> {
+        self.closest_hit_prefetching(ray, t_max, |_| {}, intersect)
+    }
+
+    /// As [`Bvh::closest_hit`], calling `prefetch(i)` for every primitive
+    /// of a leaf the ray enters as soon as its node is tested, before any
+    /// of them is intersected: the caller can start loading what
+    /// `intersect(i, ..)` will read, so that the leaves' cache misses
+    /// overlap instead of following one another.
+    pub fn closest_hit_prefetching(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        prefetch: impl Fn(usize),
         mut intersect: impl FnMut(usize, f32) -> Option<f32>,
     ) -> Option<(usize, f32)> {
         let tree = self.tree.as_ref()?;
-        let mut hit = RayHit::none();
-        let found = tree.ray_traverse(
-            Self::obvhs_ray(ray, t_max),
-            &mut hit,
-            |r, i| match intersect(self.first + i, r.tmax) {
-                Some(t) if t > 0.0 && t < r.tmax => t,
-                _ => f32::INFINITY,
-            },
+        let mut traverse_ray = Self::obvhs_ray(ray, t_max);
+        let mut best = None;
+        let mut state = tree.new_traversal(traverse_ray.direction);
+        let mut node;
+        obvhs::traverse!(
+            tree,
+            node,
+            state,
+            self.test_node(node, &traverse_ray, state.oct_inv4, &prefetch),
+            {
+                let i = self.first + state.primitive_id as usize;
+                if let Some(t) = intersect(i, traverse_ray.tmax) {
+                    if t > 0.0 && t < traverse_ray.tmax {
+                        best = Some((i, t));
+                        traverse_ray.tmax = t;
+                    }
+                }
+            }
         );
-        found.then(|| (self.first + hit.primitive_id as usize, hit.t))
+        best
     }
 
     /// Whether any primitive is hit before `t_max`.
-    pub fn any_hit(&self, ray: &Ray, t_max: f32, mut hits: impl FnMut(usize, f32) -> bool) -> bool {
+    pub fn any_hit(&self, ray: &Ray, t_max: f32, hits: impl FnMut(usize, f32) -> bool) -> bool {
+        self.any_hit_prefetching(ray, t_max, |_| {}, hits)
+    }
+
+    /// As [`Bvh::any_hit`], with `prefetch` as in
+    /// [`Bvh::closest_hit_prefetching`].
+    pub fn any_hit_prefetching(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        prefetch: impl Fn(usize),
+        mut hits: impl FnMut(usize, f32) -> bool,
+    ) -> bool {
         let Some(tree) = self.tree.as_ref() else {
             return false;
         };
-        !tree.ray_traverse_miss(Self::obvhs_ray(ray, t_max), |r, i| {
-            if hits(self.first + i, r.tmax) {
-                // Any distance below t_max ends the traversal (finite even
-                // for an unbounded ray).
-                0.5 * r.tmax.min(f32::MAX)
-            } else {
-                f32::INFINITY
-            }
-        })
+        let traverse_ray = Self::obvhs_ray(ray, t_max);
+        let mut state = tree.new_traversal(traverse_ray.direction);
+        let mut node;
+        let mut hit = false;
+        'traversal: {
+            obvhs::traverse!(
+                tree,
+                node,
+                state,
+                self.test_node(node, &traverse_ray, state.oct_inv4, &prefetch),
+                {
+                    if hits(self.first + state.primitive_id as usize, t_max) {
+                        hit = true;
+                        break 'traversal;
+                    }
+                }
+            );
+        }
+        hit
+    }
+
+    /// The children of `node` the ray enters (obvhs's hit mask: inner
+    /// children in the high byte, leaf primitives in the low 24 bits),
+    /// with the leaf primitives handed to `prefetch`.
+    #[inline(always)]
+    fn test_node(
+        &self,
+        node: &CwBvhNode,
+        ray: &obvhs::ray::Ray,
+        oct_inv4: u32,
+        prefetch: &impl Fn(usize),
+    ) -> u32 {
+        let hit_mask = node.intersect_ray(ray, oct_inv4);
+        let mut leaves = hit_mask & 0x00ff_ffff;
+        while leaves != 0 {
+            prefetch(self.first + (node.primitive_base_idx + leaves.trailing_zeros()) as usize);
+            leaves &= leaves - 1;
+        }
+        hit_mask
     }
 }
 

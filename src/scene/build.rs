@@ -15,6 +15,7 @@ use crate::lights::{self, Light, LightSampler};
 use crate::materials::Material;
 use crate::math::{offset_ray_origin, Bounds3, Ray};
 use crate::samplers::Sampler;
+use crate::shapes::curve::CurvePiece;
 use crate::shapes::{create_shapes, Shape, ShapeStorage};
 use crate::spectrum::color_space::SpectrumKind;
 use crate::textures::{create_texture, FloatTexture, NamedTextures, SpectrumTexture};
@@ -80,12 +81,9 @@ pub struct BuiltScene {
     /// Object instances (their primitives follow the top level's in
     /// `primitives`).
     pub instances: InstanceAccel,
-    /// For each primitive, its curve piece if it is a curve without an
-    /// alpha cutout, else [`NOT_A_CURVE`]; empty in a scene without
-    /// curves. The pieces are stored in this order, so a BVH leaf's pieces
-    /// are neighbours in memory: a ray tests them without reading the
-    /// primitives.
-    curve_of_primitive: Vec<u32>,
+    /// Which primitives a ray tests as curves, and where their pieces are
+    /// (see [`CurveLookup`]).
+    curve_lookup: CurveLookup,
     pub materials: Vec<Material>,
     pub lights: Vec<Light>,
     pub infinite_lights: Vec<usize>,
@@ -121,24 +119,29 @@ impl BuiltScene {
         }
         let frame = crate::shapes::curve::RayFrame::new(ray)?;
         let mut best = None;
-        bvh.closest_hit(ray, t_max, |i, t_max| {
-            if let Some(c) = self.curve_without_alpha(i) {
-                let (piece, segment) = self.shapes.curve(c);
-                let hit = piece.intersect_in(segment, &frame, t_max)?;
-                best = Some(Best::Curve(hit, c, i));
-                return Some(hit.t);
-            }
-            let prim = &self.primitives[i];
-            if let Some(alpha) = prim.alpha {
-                let (si, t) = self.intersect_cut_out(prim, alpha, ray, t_max)?;
-                best = Some(Best::Full(si, i));
-                return Some(t);
-            }
-            let hit = prim.shape.intersect(&self.shapes, ray, t_max)?;
-            let t = hit.t_hit;
-            best = Some(Best::Full(hit.interaction, i));
-            Some(t)
-        })?;
+        bvh.closest_hit_prefetching(
+            ray,
+            t_max,
+            |i| self.prefetch(i),
+            |i, t_max| {
+                if let Some(c) = self.curve_without_alpha(i) {
+                    let (piece, segment) = self.shapes.curve(c);
+                    let hit = piece.intersect_in(segment, &frame, t_max)?;
+                    best = Some(Best::Curve(hit, c, i));
+                    return Some(hit.t);
+                }
+                let prim = &self.primitives[i];
+                if let Some(alpha) = prim.alpha {
+                    let (si, t) = self.intersect_cut_out(prim, alpha, ray, t_max)?;
+                    best = Some(Best::Full(si, i));
+                    return Some(t);
+                }
+                let hit = prim.shape.intersect(&self.shapes, ray, t_max)?;
+                let t = hit.t_hit;
+                best = Some(Best::Full(hit.interaction, i));
+                Some(t)
+            },
+        )?;
         let (mut si, i) = match best? {
             Best::Full(si, i) => (si, i),
             Best::Curve(hit, c, i) => (hit.interaction(self.shapes.curve(c).1, ray), i),
@@ -158,27 +161,55 @@ impl BuiltScene {
     /// Whether any primitive of one BVH lies on `ray` before `t_max`.
     fn intersect_p_bvh(&self, bvh: &Bvh, ray: &Ray, t_max: f32) -> bool {
         let frame = crate::shapes::curve::RayFrame::new(ray);
-        bvh.any_hit(ray, t_max, |i, t_max| {
-            if let (Some(c), Some(frame)) = (self.curve_without_alpha(i), &frame) {
-                let (piece, segment) = self.shapes.curve(c);
-                return piece.intersect_in(segment, frame, t_max).is_some();
-            }
-            let prim = &self.primitives[i];
-            match prim.alpha {
-                Some(alpha) => self.intersect_cut_out(prim, alpha, ray, t_max).is_some(),
-                None => prim.shape.intersect_p(&self.shapes, ray, t_max),
-            }
-        })
+        bvh.any_hit_prefetching(
+            ray,
+            t_max,
+            |i| self.prefetch(i),
+            |i, t_max| {
+                if let (Some(c), Some(frame)) = (self.curve_without_alpha(i), &frame) {
+                    let (piece, segment) = self.shapes.curve(c);
+                    return piece.intersect_in(segment, frame, t_max).is_some();
+                }
+                let prim = &self.primitives[i];
+                match prim.alpha {
+                    Some(alpha) => self.intersect_cut_out(prim, alpha, ray, t_max).is_some(),
+                    None => prim.shape.intersect_p(&self.shapes, ray, t_max),
+                }
+            },
+        )
     }
 
     /// The curve piece of primitive `i`, if it is a curve without an alpha
     /// cutout.
     #[inline]
     fn curve_without_alpha(&self, i: usize) -> Option<u32> {
-        self.curve_of_primitive
-            .get(i)
-            .copied()
-            .filter(|&c| c != NOT_A_CURVE)
+        match &self.curve_lookup {
+            CurveLookup::ByPrimitive => {
+                let piece = self.shapes.curve_pieces.get(i)?;
+                (!piece.is_placeholder()).then_some(i as u32)
+            }
+            CurveLookup::Mapped(curve_of_primitive) => curve_of_primitive
+                .get(i)
+                .copied()
+                .filter(|&c| c != NOT_A_CURVE),
+        }
+    }
+
+    /// Starts loading what testing primitive `i` reads first.
+    #[inline(always)]
+    fn prefetch(&self, i: usize) {
+        match &self.curve_lookup {
+            CurveLookup::ByPrimitive => {
+                if let Some(piece) = self.shapes.curve_pieces.get(i) {
+                    crate::accel::prefetch(piece);
+                }
+            }
+            CurveLookup::Mapped(curve_of_primitive) => {
+                if let Some(c) = curve_of_primitive.get(i) {
+                    crate::accel::prefetch(c);
+                }
+            }
+        }
     }
 
     /// The closest hit of a primitive with an alpha cutout (and its t along
@@ -451,7 +482,7 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
         .iter()
         .map(|&i| primitives[i as usize].clone())
         .collect();
-    let curve_of_primitive = order_curve_pieces(&mut primitives, &mut shapes);
+    let curve_lookup = order_curve_pieces(&mut primitives, &mut shapes);
     let instances = if plan.instances.is_empty() {
         InstanceAccel::empty()
     } else {
@@ -493,7 +524,7 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
         primitives,
         bvh,
         instances,
-        curve_of_primitive,
+        curve_lookup,
         materials,
         lights,
         infinite_lights,
@@ -503,34 +534,69 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
     })
 }
 
-/// In `BuiltScene::curve_of_primitive`: the primitive is not a curve (or
-/// has an alpha cutout).
+/// How a ray's test of primitive `i` finds its curve piece. A BVH leaf's
+/// primitives are neighbours in the primitive array, and the pieces are
+/// stored in the same order, so a ray tests a leaf's curves without
+/// reading the primitives.
+enum CurveLookup {
+    /// `ShapeStorage::curve_pieces[i]` is primitive `i`'s piece, or a
+    /// placeholder where primitive `i` is not tested as a curve: the piece
+    /// is found without a lookup that the load of it would wait on. For
+    /// scenes mostly of curves (at most as many placeholders as pieces).
+    ByPrimitive,
+    /// For each primitive, its piece if it is a curve without an alpha
+    /// cutout, else [`NOT_A_CURVE`]; empty in a scene without curves.
+    Mapped(Vec<u32>),
+}
+
+/// In `CurveLookup::Mapped`: the primitive is not a curve (or has an alpha
+/// cutout).
 const NOT_A_CURVE: u32 = u32::MAX;
 
-/// Stores the curve pieces in the order of `primitives` (BVH order) and
-/// returns `BuiltScene::curve_of_primitive`.
-fn order_curve_pieces(primitives: &mut [Primitive], shapes: &mut ShapeStorage) -> Vec<u32> {
+/// Stores the curve pieces in the order of `primitives` (BVH order):
+/// by primitive index where the placeholders that needs are affordable,
+/// else packed. Curves with an alpha cutout are intersected through their
+/// primitive (`intersect_cut_out`); their pieces go after the others.
+fn order_curve_pieces(primitives: &mut [Primitive], shapes: &mut ShapeStorage) -> CurveLookup {
     if shapes.curve_pieces.is_empty() {
-        return Vec::new();
+        return CurveLookup::Mapped(Vec::new());
     }
-    let mut pieces = Vec::with_capacity(shapes.curve_pieces.len());
-    let curve_of_primitive = primitives
-        .iter_mut()
-        .map(|prim| {
-            let Shape::Curve(c) = &mut prim.shape else {
-                return NOT_A_CURVE;
-            };
-            pieces.push(shapes.curve_pieces[*c as usize]);
-            *c = pieces.len() as u32 - 1;
-            if prim.alpha.is_some() {
-                NOT_A_CURVE
-            } else {
-                *c
+    let created = std::mem::take(&mut shapes.curve_pieces);
+    let pieces = &mut shapes.curve_pieces;
+    let tested_as_curve =
+        |prim: &Primitive| prim.alpha.is_none() && matches!(prim.shape, Shape::Curve(_));
+    let tested = primitives.iter().filter(|p| tested_as_curve(p)).count();
+    let by_primitive = primitives.len() - tested <= tested;
+    let mut curve_of_primitive = Vec::new();
+    for prim in primitives.iter_mut() {
+        let tested = tested_as_curve(prim);
+        match &mut prim.shape {
+            Shape::Curve(c) if tested => {
+                pieces.push(created[*c as usize]);
+                *c = pieces.len() as u32 - 1;
             }
-        })
-        .collect();
-    shapes.curve_pieces = pieces;
-    curve_of_primitive
+            _ if by_primitive => pieces.push(CurvePiece::placeholder()),
+            _ => {}
+        }
+        if !by_primitive {
+            curve_of_primitive.push(if tested {
+                pieces.len() as u32 - 1
+            } else {
+                NOT_A_CURVE
+            });
+        }
+    }
+    for prim in primitives.iter_mut() {
+        if let (Shape::Curve(c), Some(_)) = (&mut prim.shape, prim.alpha) {
+            pieces.push(created[*c as usize]);
+            *c = pieces.len() as u32 - 1;
+        }
+    }
+    if by_primitive {
+        CurveLookup::ByPrimitive
+    } else {
+        CurveLookup::Mapped(curve_of_primitive)
+    }
 }
 
 fn integrator_settings(scene: &SceneDescription) -> Result<IntegratorSettings> {
@@ -556,4 +622,115 @@ fn integrator_settings(scene: &SceneDescription) -> Result<IntegratorSettings> {
         regularize,
         texture_filtering: !scene.options.disable_texture_filtering,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::fmt::Write as _;
+    use std::path::Path;
+
+    /// `curves` random curves, `cut_out` more with a fractional alpha, and
+    /// `quads` random quads (two triangles each) in the unit box.
+    fn random_scene(curves: usize, cut_out: usize, quads: usize) -> BuiltScene {
+        let mut state = 0x9e37_79b9u32;
+        let mut rnd = move || {
+            state ^= state << 13;
+            state ^= state >> 17;
+            state ^= state << 5;
+            state as f32 / u32::MAX as f32
+        };
+        let mut text = String::from("Camera \"perspective\"\nWorldBegin\n");
+        for i in 0..curves + cut_out {
+            let start: Vec<f32> = (0..3).map(|_| rnd()).collect();
+            let mut p = String::new();
+            for k in 0..4 {
+                for a in 0..3 {
+                    let wiggle = 0.1 * (rnd() - 0.5);
+                    let along = if a == 0 { 0.1 * k as f32 } else { 0.0 };
+                    write!(p, "{} ", start[a] + along + wiggle).unwrap();
+                }
+            }
+            let alpha = if i >= curves {
+                "\"float alpha\" 0.5"
+            } else {
+                ""
+            };
+            writeln!(
+                text,
+                "Shape \"curve\" \"point3 P\" [ {p}] \"float width\" 0.02 {alpha}"
+            )
+            .unwrap();
+        }
+        for _ in 0..quads {
+            let c: Vec<f32> = (0..3).map(|_| rnd()).collect();
+            let (dx, dy) = (0.1 * rnd(), 0.1 * rnd());
+            let corner =
+                |sx: f32, sy: f32| format!("{} {} {} ", c[0] + sx * dx, c[1] + sy * dy, c[2]);
+            writeln!(
+                text,
+                "Shape \"trianglemesh\" \"point3 P\" [ {}{}{}{}] \"integer indices\" [ 0 1 2 0 2 3 ]",
+                corner(-1.0, -1.0),
+                corner(1.0, -1.0),
+                corner(1.0, 1.0),
+                corner(-1.0, 1.0)
+            )
+            .unwrap();
+        }
+        let loaded = crate::scene::load_text(Path::new("random.pbrt"), &text).unwrap();
+        build(&loaded.scene, &RenderOverrides::default()).unwrap()
+    }
+
+    /// The closest hit found through the BVH, its curve lookup included,
+    /// is the closest over every primitive tested on its own, and a shadow
+    /// ray is blocked exactly when that hit is nearer than its end.
+    fn check_against_every_primitive(scene: &BuiltScene) {
+        let mut state = 12345u32;
+        let mut rnd = move || {
+            state ^= state << 13;
+            state ^= state >> 17;
+            state ^= state << 5;
+            state as f32 / u32::MAX as f32
+        };
+        let mut hits = 0;
+        for _ in 0..3000 {
+            let origin = Vec3::new(rnd(), rnd(), rnd()) * 1.4 - 0.2;
+            let direction = (Vec3::new(rnd(), rnd(), rnd()) - 0.5).normalize();
+            let ray = Ray::new(origin, direction, 0.0);
+            let t_max = 2.0;
+            let brute = scene
+                .primitives
+                .iter()
+                .filter_map(|prim| match prim.alpha {
+                    Some(alpha) => scene
+                        .intersect_cut_out(prim, alpha, &ray, t_max)
+                        .map(|(_, t)| t),
+                    None => prim
+                        .shape
+                        .intersect(&scene.shapes, &ray, t_max)
+                        .map(|h| h.t_hit),
+                })
+                .fold(f32::INFINITY, f32::min);
+            let found = scene.intersect(&ray, t_max).map(|(si, _)| si.t);
+            assert_eq!(found.unwrap_or(f32::INFINITY), brute);
+            let end = 0.3;
+            assert_eq!(scene.intersect_p(&ray, end), brute < end, "{brute}");
+            hits += found.is_some() as usize;
+        }
+        assert!(hits > 150, "{hits} hits: the test should hit something");
+    }
+
+    #[test]
+    fn curves_are_found_by_primitive_index_in_a_scene_mostly_of_curves() {
+        let scene = random_scene(60, 10, 8);
+        assert!(matches!(scene.curve_lookup, CurveLookup::ByPrimitive));
+        check_against_every_primitive(&scene);
+    }
+
+    #[test]
+    fn curves_are_found_through_a_map_in_a_scene_mostly_of_other_shapes() {
+        let scene = random_scene(5, 2, 60);
+        assert!(matches!(scene.curve_lookup, CurveLookup::Mapped(_)));
+        check_against_every_primitive(&scene);
+    }
 }

@@ -97,6 +97,10 @@ const SEGMENT_BITS: u32 = 28;
 /// with the refinement depth).
 pub const MAX_SEGMENTS: usize = (1 << SEGMENT_BITS) - 1;
 
+/// `segment_and_depth` of [`CurvePiece::placeholder`]: segment index
+/// [`MAX_SEGMENTS`], which no segment has (a scene has fewer).
+const PLACEHOLDER: u32 = u32::MAX;
+
 /// Point and derivative of a cubic Bézier at u (de Casteljau).
 pub fn evaluate_bezier(cp: &[Vec3; 4], u: f32) -> (Vec3, Vec3) {
     let a = [
@@ -166,6 +170,23 @@ impl CurvePiece {
             half_width: 0.5 * width[0].max(width[1]),
             segment_and_depth: segment | (refine_depth << SEGMENT_BITS),
         }
+    }
+
+    /// A piece that is no curve: it fills the slot of a primitive that is
+    /// not tested as a curve where pieces are stored by primitive index
+    /// (see `BuiltScene`), and [`CurvePiece::is_placeholder`] tells it.
+    pub fn placeholder() -> Self {
+        CurvePiece {
+            cp: [Vec3::ZERO; 4],
+            u0: 0.0,
+            u1: 0.0,
+            half_width: 0.0,
+            segment_and_depth: PLACEHOLDER,
+        }
+    }
+
+    pub fn is_placeholder(&self) -> bool {
+        self.segment_and_depth == PLACEHOLDER
     }
 
     /// Index of the segment in the scene's curve segments.

@@ -1,0 +1,18 @@
+//! A hint to the CPU to start loading memory that will be read soon.
+
+/// Starts loading the cache line holding the start of `value` into all
+/// cache levels, without waiting for it (a no-op where the target has no
+/// prefetch instruction). A hint only: it never faults and changes no
+/// result.
+#[inline(always)]
+pub fn prefetch<T>(value: &T) {
+    #[cfg(target_arch = "x86_64")]
+    // SAFETY: a prefetch reads nothing the program sees and cannot fault;
+    // the pointer comes from a reference anyway.
+    unsafe {
+        use std::arch::x86_64::{_mm_prefetch, _MM_HINT_T0};
+        _mm_prefetch::<_MM_HINT_T0>((value as *const T).cast::<i8>());
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    let _ = value;
+}
