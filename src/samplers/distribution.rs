@@ -42,21 +42,122 @@ impl Domain2D {
     }
 }
 
+/// One step of a tabulated function: the normalized running integral at
+/// its start and |f| on it, side by side so that a sample reads both from
+/// one cache line.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct Step {
+    cdf: f32,
+    value: f32,
+}
+
+/// The tables of one step function: `steps` (n + 1 entries, the last one
+/// holding cdf 1 and no value) and `guide`, `guide[k]` the interval
+/// `u = k / n` falls in, for k = 0…n. A sample u in [k/n, (k+1)/n) lies in
+/// an interval between `guide[k]` and `guide[k + 1]`, so it searches there:
+/// one or two steps on average instead of log₂ n dependent loads, with
+/// exactly the interval the full search finds (the cutpoint method of Chen
+/// and Asau 1974).
+#[derive(Clone, Copy)]
+struct Tables<'a> {
+    steps: &'a [Step],
+    guide: &'a [u32],
+}
+
+/// Appends the tables of `|function|` on equal steps over `[min, max]` to
+/// `steps` and `guide` (an all-zero function gets a uniform cdf); returns
+/// the integral of |f|.
+fn tabulate(
+    function: &[f32],
+    min: f32,
+    max: f32,
+    steps: &mut Vec<Step>,
+    guide: &mut Vec<u32>,
+) -> f32 {
+    let n = function.len();
+    let first = steps.len();
+    let mut cdf = 0.0f32;
+    for &f in function {
+        let value = f.abs();
+        steps.push(Step { cdf, value });
+        cdf += value * (max - min) / n as f32;
+    }
+    steps.push(Step { cdf, value: 0.0 });
+    let table = &mut steps[first..];
+    let integral = cdf;
+    for (i, step) in table.iter_mut().enumerate().skip(1) {
+        step.cdf = if integral == 0.0 {
+            i as f32 / n as f32
+        } else {
+            step.cdf / integral
+        };
+    }
+    let cdf: Vec<f32> = table.iter().map(|s| s.cdf).collect();
+    guide.extend((0..=n).map(|k| find_interval(&cdf, k as f32 / n as f32) as u32));
+    integral
+}
+
+impl Tables<'_> {
+    /// Number of steps.
+    fn size(&self) -> usize {
+        self.steps.len() - 1
+    }
+
+    /// The interval `u` falls in: the last i ≤ n − 1 with cdf[i] ≤ u, as
+    /// [`find_interval`] finds it.
+    #[inline]
+    fn interval(&self, u: f32) -> usize {
+        let n = self.size();
+        let cdf = |i: usize| self.steps[i].cdf;
+        let k = ((u * n as f32) as usize).min(n - 1);
+        let (mut lo, mut hi) = (self.guide[k] as usize, self.guide[k + 1] as usize);
+        // Rounding of u · n may have put u one bucket off: widen to it.
+        while lo > 0 && cdf(lo) > u {
+            lo -= 1;
+        }
+        while hi < n - 1 && cdf(hi + 1) <= u {
+            hi += 1;
+        }
+        // The last i in [lo, hi] with cdf[i] ≤ u (cdf[lo] ≤ u here unless
+        // lo = 0, the answer then).
+        while lo < hi {
+            let middle = (lo + hi).div_ceil(2);
+            if cdf(middle) <= u {
+                lo = middle;
+            } else {
+                hi = middle - 1;
+            }
+        }
+        lo
+    }
+
+    /// Samples with `u` in [0, 1) a function with integral `integral` over
+    /// `[min, max]`: the point, its density, and the index of the step it
+    /// lies in.
+    #[inline]
+    fn sample(&self, u: f32, integral: f32, min: f32, max: f32) -> (f32, f32, usize) {
+        let offset = self.interval(u);
+        let (step, next) = (self.steps[offset], self.steps[offset + 1]);
+        let mut du = u - step.cdf;
+        let step_mass = next.cdf - step.cdf;
+        if step_mass > 0.0 {
+            du /= step_mass;
+        }
+        let pdf = if integral > 0.0 {
+            step.value / integral
+        } else {
+            0.0
+        };
+        let t = (offset as f32 + du) / self.size() as f32;
+        ((1.0 - t) * min + t * max, pdf, offset)
+    }
+}
+
 /// A step function on `[min, max]` with equal-width steps, and the means to
 /// sample it in proportion to its absolute value.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PiecewiseConstant1D {
-    /// |f| on each step.
-    function: Vec<f32>,
-    /// The normalized running integral at each step boundary (n + 1 values,
-    /// from 0 to 1).
-    cdf: Vec<f32>,
-    /// `guide[k]`: the interval `u = k / n` falls in, for k = 0…n (n the
-    /// number of intervals). A sample u in [k/n, (k+1)/n) lies in an
-    /// interval between `guide[k]` and `guide[k + 1]`, so it searches
-    /// there: one or two steps on average instead of log₂ n dependent
-    /// loads, with exactly the interval the full search finds (the
-    /// cutpoint method of Chen and Asau 1974).
+    steps: Vec<Step>,
     guide: Vec<u32>,
     min: f32,
     max: f32,
@@ -69,32 +170,15 @@ impl PiecewiseConstant1D {
     /// `[min, max]`. An all-zero function samples uniformly (with pdf 0);
     /// an empty one is taken as a single zero step.
     pub fn new(function: &[f32], min: f32, max: f32) -> Self {
-        let mut function: Vec<f32> = function.iter().map(|f| f.abs()).collect();
-        if function.is_empty() {
-            function.push(0.0);
-        }
-        let n = function.len();
-        let mut cdf = Vec::with_capacity(n + 1);
-        cdf.push(0.0f32);
-        for i in 1..=n {
-            cdf.push(cdf[i - 1] + function[i - 1] * (max - min) / n as f32);
-        }
-        let integral = cdf[n];
-        if integral == 0.0 {
-            for (i, c) in cdf.iter_mut().enumerate().skip(1) {
-                *c = i as f32 / n as f32;
-            }
+        let function = if function.is_empty() {
+            &[0.0][..]
         } else {
-            for c in cdf.iter_mut().skip(1) {
-                *c /= integral;
-            }
-        }
-        let guide = (0..=n)
-            .map(|k| find_interval(&cdf, k as f32 / n as f32) as u32)
-            .collect();
+            function
+        };
+        let (mut steps, mut guide) = (Vec::new(), Vec::new());
+        let integral = tabulate(function, min, max, &mut steps, &mut guide);
         PiecewiseConstant1D {
-            function,
-            cdf,
+            steps,
             guide,
             min,
             max,
@@ -102,31 +186,11 @@ impl PiecewiseConstant1D {
         }
     }
 
-    /// The interval `u` falls in: the last i ≤ n − 1 with cdf[i] ≤ u, as
-    /// [`find_interval`] finds it.
-    #[inline]
-    fn interval(&self, u: f32) -> usize {
-        let n = self.function.len();
-        let k = ((u * n as f32) as usize).min(n - 1);
-        let (mut lo, mut hi) = (self.guide[k] as usize, self.guide[k + 1] as usize);
-        // Rounding of u · n may have put u one bucket off: widen to it.
-        while lo > 0 && self.cdf[lo] > u {
-            lo -= 1;
+    fn tables(&self) -> Tables<'_> {
+        Tables {
+            steps: &self.steps,
+            guide: &self.guide,
         }
-        while hi < n - 1 && self.cdf[hi + 1] <= u {
-            hi += 1;
-        }
-        // The last i in [lo, hi] with cdf[i] ≤ u (cdf[lo] ≤ u here unless
-        // lo = 0, the answer then).
-        while lo < hi {
-            let middle = (lo + hi).div_ceil(2);
-            if self.cdf[middle] <= u {
-                lo = middle;
-            } else {
-                hi = middle - 1;
-            }
-        }
-        lo
     }
 
     /// ∫|f| over the domain.
@@ -136,30 +200,18 @@ impl PiecewiseConstant1D {
 
     /// Number of steps.
     pub fn size(&self) -> usize {
-        self.function.len()
+        self.steps.len() - 1
     }
 
-    /// |f| on each step.
-    pub fn function(&self) -> &[f32] {
-        &self.function
+    /// |f| on step `i`.
+    pub fn value(&self, i: usize) -> f32 {
+        self.steps[i].value
     }
 
     /// Samples with `u` in [0, 1): the point, its density, and the index of
     /// the step it lies in.
     pub fn sample(&self, u: f32) -> (f32, f32, usize) {
-        let offset = self.interval(u);
-        let mut du = u - self.cdf[offset];
-        let step_mass = self.cdf[offset + 1] - self.cdf[offset];
-        if step_mass > 0.0 {
-            du /= step_mass;
-        }
-        let pdf = if self.integral > 0.0 {
-            self.function[offset] / self.integral
-        } else {
-            0.0
-        };
-        let t = (offset as f32 + du) / self.size() as f32;
-        ((1.0 - t) * self.min + t * self.max, pdf, offset)
+        self.tables().sample(u, self.integral, self.min, self.max)
     }
 }
 
@@ -184,13 +236,19 @@ fn find_interval(cdf: &[f32], u: f32) -> usize {
 
 /// A 2D step function on a grid over a rectangle, sampled in proportion to
 /// its absolute value: a marginal distribution over rows (v) and a
-/// conditional one within each row (u).
+/// conditional one within each row (u). The rows' tables lie end to end in
+/// two arrays, so a sample reads no per-row header.
 #[derive(Clone, Debug, PartialEq)]
 pub struct PiecewiseConstant2D {
     domain: Domain2D,
-    /// One distribution over u per row.
-    conditional: Vec<PiecewiseConstant1D>,
-    /// The distribution over rows of each row's integral.
+    /// Steps per row.
+    nu: usize,
+    /// Row v's steps at `v (nu + 1) .. (v + 1)(nu + 1)`.
+    steps: Vec<Step>,
+    /// Row v's guide at the same place.
+    guides: Vec<u32>,
+    /// The distribution over rows of each row's integral (its values are
+    /// the rows' integrals).
     marginal: PiecewiseConstant1D,
 }
 
@@ -200,20 +258,32 @@ impl PiecewiseConstant2D {
     /// `nu` and `nv` are taken as at least 1.
     pub fn new(function: &[f32], nu: usize, nv: usize, domain: Domain2D) -> Self {
         let (nu, nv) = (nu.max(1), nv.max(1));
-        let conditional: Vec<PiecewiseConstant1D> = (0..nv)
+        let mut steps = Vec::with_capacity(nv * (nu + 1));
+        let mut guides = Vec::with_capacity(nv * (nu + 1));
+        let row_integrals: Vec<f32> = (0..nv)
             .map(|v| {
                 let row: Vec<f32> = (0..nu)
                     .map(|u| function.get(v * nu + u).copied().unwrap_or(0.0))
                     .collect();
-                PiecewiseConstant1D::new(&row, domain.min.x, domain.max.x)
+                tabulate(&row, domain.min.x, domain.max.x, &mut steps, &mut guides)
             })
             .collect();
-        let row_integrals: Vec<f32> = conditional.iter().map(|c| c.integral()).collect();
         let marginal = PiecewiseConstant1D::new(&row_integrals, domain.min.y, domain.max.y);
         PiecewiseConstant2D {
             domain,
-            conditional,
+            nu,
+            steps,
+            guides,
             marginal,
+        }
+    }
+
+    /// Row `v`'s tables.
+    fn row(&self, v: usize) -> Tables<'_> {
+        let range = v * (self.nu + 1)..(v + 1) * (self.nu + 1);
+        Tables {
+            steps: &self.steps[range.clone()],
+            guide: &self.guides[range],
         }
     }
 
@@ -236,7 +306,12 @@ impl PiecewiseConstant2D {
     /// cell (column, row) it lies in.
     pub fn sample_with_cell(&self, u: Vec2) -> (Vec2, f32, UVec2) {
         let (y, pdf_y, row) = self.marginal.sample(u.y);
-        let (x, pdf_x, column) = self.conditional[row].sample(u.x);
+        let (x, pdf_x, column) = self.row(row).sample(
+            u.x,
+            self.marginal.value(row),
+            self.domain.min.x,
+            self.domain.max.x,
+        );
         (
             Vec2::new(x, y),
             pdf_x * pdf_y,
@@ -247,7 +322,7 @@ impl PiecewiseConstant2D {
     /// The density of sampling `p` (a point of the domain).
     pub fn pdf(&self, p: Vec2) -> f32 {
         let o = self.domain.offset(p);
-        let nu = self.conditional[0].size();
+        let nu = self.nu;
         let nv = self.marginal.size();
         let column = ((o.x * nu as f32) as i64).clamp(0, nu as i64 - 1) as usize;
         let row = ((o.y * nv as f32) as i64).clamp(0, nv as i64 - 1) as usize;
@@ -255,7 +330,7 @@ impl PiecewiseConstant2D {
         if integral == 0.0 {
             return 0.0;
         }
-        self.conditional[row].function()[column] / integral
+        self.steps[row * (nu + 1) + column].value / integral
     }
 }
 
@@ -329,7 +404,8 @@ mod tests {
                     f32::from_bits(x.to_bits() + 1),
                 ]
             };
-            for &c in &d.cdf {
+            let cdf: Vec<f32> = d.steps.iter().map(|s| s.cdf).collect();
+            for &c in &cdf {
                 us.extend(around(c));
             }
             for k in 0..=n {
@@ -338,8 +414,8 @@ mod tests {
             us.extend([0.0, ONE_BELOW_ONE]);
             for u in us.into_iter().filter(|u| (0.0..1.0).contains(u)) {
                 assert_eq!(
-                    d.interval(u),
-                    find_interval(&d.cdf, u),
+                    d.tables().interval(u),
+                    find_interval(&cdf, u),
                     "case {case} n {n} u {u}"
                 );
             }
