@@ -201,11 +201,16 @@ fn sample_ld(
     let Some(ls) = light.sample_li(&ctx, u_light, lambda, &scene.shapes, true) else {
         return SampledSpectrum::ZERO;
     };
-    if ls.l.is_zero() || ls.pdf == 0.0 {
+    if ls.l.is_known_zero() || ls.pdf == 0.0 {
         return SampledSpectrum::ZERO;
     }
+    ls.l.prefetch();
     let f = bsdf.f(si.wo, ls.wi, TransportMode::Radiance) * ls.wi.dot(si.shading.n).abs();
     if f.is_zero() || !scene.unoccluded(si, ls.p_light, ls.p_light_error, ls.n_light) {
+        return SampledSpectrum::ZERO;
+    }
+    let l = ls.l.value(lambda);
+    if l.is_zero() {
         return SampledSpectrum::ZERO;
     }
     let p_l = p_light * ls.pdf;
@@ -213,7 +218,7 @@ fn sample_ld(
         light.kind(),
         LightKind::DeltaPosition | LightKind::DeltaDirection
     ) {
-        return ls.l * f / p_l;
+        return l * f / p_l;
     }
     let p_b = bsdf.pdf(
         si.wo,
@@ -221,5 +226,5 @@ fn sample_ld(
         TransportMode::Radiance,
         BxDFReflTransFlags::All,
     );
-    ls.l * f * (mis_weight(volpath, p_l, p_b) / p_l)
+    l * f * (mis_weight(volpath, p_l, p_b) / p_l)
 }

@@ -9,7 +9,7 @@
 //! | `power` | float | — | if given: total power in W (photometric) |
 //! | `filename` | string | — | image of emitted radiance over (u, v): not supported yet |
 
-use super::{LightLiSample, LightSampleContext};
+use super::{LightLiSample, LightSampleContext, Radiance};
 use crate::shapes::{Shape, ShapeSampleContext, ShapeStorage};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use glam::{Vec2, Vec3};
@@ -51,7 +51,7 @@ impl DiffuseAreaLight {
         u: Vec2,
         lambda: &SampledWavelengths,
         shapes: &ShapeStorage,
-    ) -> Option<LightLiSample> {
+    ) -> Option<LightLiSample<'_>> {
         let shape_ctx = shape_context(ctx);
         let ss = self.shape.sample_from(shapes, &shape_ctx, u)?;
         if ss.pdf == 0.0 || (ss.p - ctx.p).length_squared() == 0.0 {
@@ -63,7 +63,7 @@ impl DiffuseAreaLight {
             return None;
         }
         Some(LightLiSample {
-            l,
+            l: Radiance::Value(l),
             wi,
             pdf: ss.pdf,
             p_light: ss.p,

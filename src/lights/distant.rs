@@ -7,7 +7,7 @@
 //! | `from`, `to` | point3 | 0 0 0, 0 0 1 | light arrives travelling from `from` to `to` |
 //! | `illuminance` | float | — | if given: illuminance in lux at a surface facing the light |
 
-use super::{LightLiSample, LightSampleContext};
+use super::{LightLiSample, LightSampleContext, Radiance};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use glam::Vec3;
 use std::f32::consts::PI;
@@ -29,10 +29,10 @@ impl DistantLight {
         &self,
         ctx: &LightSampleContext,
         lambda: &SampledWavelengths,
-    ) -> Option<LightLiSample> {
+    ) -> Option<LightLiSample<'_>> {
         let wi = self.towards_light;
         Some(LightLiSample {
-            l: self.radiance.sample(lambda) * self.scale,
+            l: Radiance::Value(self.radiance.sample(lambda) * self.scale),
             wi,
             pdf: 1.0,
             p_light: ctx.p + wi * (2.0 * self.scene_radius),

@@ -12,7 +12,7 @@
 //! average, clamped at 0), which leaves the dim parts to BSDF sampling
 //! (pbrt-v4's approach).
 
-use super::{LightLiSample, LightSampleContext};
+use super::{LightLiSample, LightSampleContext, Radiance};
 use crate::math::equal_area::{
     equal_area_sphere_to_square, equal_area_square_to_sphere, wrap_equal_area_square,
 };
@@ -90,15 +90,27 @@ impl ImageInfiniteLight {
 
     /// Radiance of the image at (u, v) (nearest texel, octahedral wrap).
     fn image_le(&self, uv: Vec2, lambda: &SampledWavelengths) -> SampledSpectrum {
+        self.texel_le(self.texel_index(uv), lambda)
+    }
+
+    /// The texel holding `uv`.
+    fn texel_index(&self, uv: Vec2) -> usize {
         let r = self.resolution;
         let p = IVec2::new((uv.x * r as f32) as i32, (uv.y * r as f32) as i32);
         let p = wrap_equal_area_square(p, IVec2::splat(r));
-        self.texel_le((p.y * r + p.x) as usize, lambda)
+        (p.y * r + p.x) as usize
+    }
+
+    /// Starts loading texel `i`.
+    pub(super) fn prefetch_texel(&self, i: usize) {
+        if let Some(texel) = self.texels.get(i) {
+            crate::accel::prefetch(texel);
+        }
     }
 
     /// Radiance of texel `i`: pbrt-v4's RGB illuminant spectrum of its RGB,
     /// times the light's scale.
-    fn texel_le(&self, i: usize, lambda: &SampledWavelengths) -> SampledSpectrum {
+    pub(super) fn texel_le(&self, i: usize, lambda: &SampledWavelengths) -> SampledSpectrum {
         let (scale, polynomial) = &self.texels[i];
         SampledSpectrum::from_fn(|k| {
             let l = lambda.lambda[k];
@@ -114,13 +126,14 @@ impl ImageInfiniteLight {
         self.image_le(equal_area_sphere_to_square(w), lambda)
     }
 
+    /// The sample's radiance is its texel, read only if the caller needs it
+    /// (see [`Radiance`]).
     pub fn sample_li(
         &self,
         ctx: &LightSampleContext,
         u: Vec2,
-        lambda: &SampledWavelengths,
         allow_incomplete_pdf: bool,
-    ) -> Option<LightLiSample> {
+    ) -> Option<LightLiSample<'_>> {
         let dist = if allow_incomplete_pdf {
             &self.compensated
         } else {
@@ -135,7 +148,7 @@ impl ImageInfiniteLight {
             .transform_vector3(equal_area_square_to_sphere(uv))
             .normalize();
         Some(LightLiSample {
-            l: self.image_le(uv, lambda),
+            l: Radiance::Texel(self, self.texel_index(uv) as u32),
             wi,
             pdf: map_pdf / (4.0 * PI),
             p_light: ctx.p + wi * (2.0 * self.scene_radius),
@@ -261,15 +274,15 @@ mod tests {
                 ((j % m) as f32 + 0.5) / m as f32,
                 ((j / m) as f32 + 0.5) / m as f32,
             );
-            let s = light.sample_li(&ctx, u, &lambda, false).expect("a sample");
+            let s = light.sample_li(&ctx, u, false).expect("a sample");
             let pdf = light.pdf_li(s.wi, false);
             assert!(
                 (pdf - s.pdf).abs() <= 1e-3 * s.pdf,
                 "pdf {pdf} vs {}",
                 s.pdf
             );
-            sum += (s.l.0[0] / s.pdf) as f64;
-            if let Some(c) = light.sample_li(&ctx, u, &lambda, true) {
+            sum += (s.l.value(&lambda).0[0] / s.pdf) as f64;
+            if let Some(c) = light.sample_li(&ctx, u, true) {
                 let uv =
                     equal_area_sphere_to_square(light.light_from_render.transform_vector3(c.wi));
                 let i = (uv.y * n as f32) as usize * n + (uv.x * n as f32) as usize;

@@ -38,10 +38,10 @@ pub struct LightSampleContext {
 }
 
 /// A sampled direction towards a light.
-#[derive(Clone, Copy, Debug)]
-pub struct LightLiSample {
+#[derive(Clone, Copy)]
+pub struct LightLiSample<'a> {
     /// Incident radiance along −wi.
-    pub l: SampledSpectrum,
+    pub l: Radiance<'a>,
     pub wi: Vec3,
     /// Solid-angle density (1 for delta lights).
     pub pdf: f32,
@@ -49,6 +49,39 @@ pub struct LightLiSample {
     pub p_light: Vec3,
     pub p_light_error: Vec3,
     pub n_light: Vec3,
+}
+
+/// A light sample's radiance: its value, or an environment map's texel to
+/// read once it is needed. Most of a hair's shadow rays are blocked, and
+/// the texel (a cache miss, and a spectrum to make) is wanted only for
+/// those that are not.
+#[derive(Clone, Copy)]
+pub enum Radiance<'a> {
+    Value(SampledSpectrum),
+    Texel(&'a ImageInfiniteLight, u32),
+}
+
+impl Radiance<'_> {
+    /// Zero for certain without reading a texel (a texel's radiance is
+    /// known only once read).
+    pub fn is_known_zero(&self) -> bool {
+        matches!(self, Radiance::Value(l) if l.is_zero())
+    }
+
+    /// Starts loading what [`Radiance::value`] will read.
+    #[inline]
+    pub fn prefetch(&self) {
+        if let Radiance::Texel(light, i) = self {
+            light.prefetch_texel(*i as usize);
+        }
+    }
+
+    pub fn value(&self, lambda: &SampledWavelengths) -> SampledSpectrum {
+        match self {
+            Radiance::Value(l) => *l,
+            Radiance::Texel(light, i) => light.texel_le(*i as usize, lambda),
+        }
+    }
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -88,13 +121,13 @@ impl Light {
         lambda: &SampledWavelengths,
         shapes: &ShapeStorage,
         allow_incomplete_pdf: bool,
-    ) -> Option<LightLiSample> {
+    ) -> Option<LightLiSample<'_>> {
         match self {
             Light::Point(l) => l.sample_li(ctx, lambda),
             Light::Spot(l) => l.sample_li(ctx, lambda),
             Light::Distant(l) => l.sample_li(ctx, lambda),
             Light::UniformInfinite(l) => l.sample_li(ctx, u, lambda, allow_incomplete_pdf),
-            Light::ImageInfinite(l) => l.sample_li(ctx, u, lambda, allow_incomplete_pdf),
+            Light::ImageInfinite(l) => l.sample_li(ctx, u, allow_incomplete_pdf),
             Light::DiffuseArea(l) => l.sample_li(ctx, u, lambda, shapes),
         }
     }

@@ -7,7 +7,7 @@
 //! | `power` | float | — | if given: total power in W (photometric normalisation) |
 //! | `from` | point3 | 0 0 0 | position |
 
-use super::{LightLiSample, LightSampleContext};
+use super::{LightLiSample, LightSampleContext, Radiance};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use glam::Vec3;
 use std::f32::consts::PI;
@@ -23,7 +23,7 @@ impl PointLight {
         &self,
         ctx: &LightSampleContext,
         lambda: &SampledWavelengths,
-    ) -> Option<LightLiSample> {
+    ) -> Option<LightLiSample<'_>> {
         let d = self.position - ctx.p;
         let dist2 = d.length_squared();
         if dist2 == 0.0 {
@@ -31,7 +31,7 @@ impl PointLight {
         }
         let l = self.intensity.sample(lambda) * (self.scale / dist2);
         Some(LightLiSample {
-            l,
+            l: Radiance::Value(l),
             wi: d / dist2.sqrt(),
             pdf: 1.0,
             p_light: self.position,

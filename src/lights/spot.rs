@@ -9,7 +9,7 @@
 //! | `coneangle` | float | 30 | total cone half-angle in degrees |
 //! | `conedeltaangle` | float | 5 | angle of the smooth falloff at the cone's edge |
 
-use super::{LightLiSample, LightSampleContext};
+use super::{LightLiSample, LightSampleContext, Radiance};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use glam::Vec3;
 use std::f32::consts::PI;
@@ -42,7 +42,7 @@ impl SpotLight {
         &self,
         ctx: &LightSampleContext,
         lambda: &SampledWavelengths,
-    ) -> Option<LightLiSample> {
+    ) -> Option<LightLiSample<'_>> {
         let d = self.position - ctx.p;
         let dist2 = d.length_squared();
         if dist2 == 0.0 {
@@ -54,7 +54,7 @@ impl SpotLight {
             return None;
         }
         Some(LightLiSample {
-            l,
+            l: Radiance::Value(l),
             wi,
             pdf: 1.0,
             p_light: self.position,

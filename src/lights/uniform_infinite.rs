@@ -6,7 +6,7 @@
 //! | `scale` | float | 1 | scale |
 //! | `illuminance` | float | — | if given: illuminance in lux at an upward-facing surface |
 
-use super::{LightLiSample, LightSampleContext};
+use super::{LightLiSample, LightSampleContext, Radiance};
 use crate::math::sampling::{sample_uniform_sphere, UNIFORM_SPHERE_PDF};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use glam::{Vec2, Vec3};
@@ -37,13 +37,13 @@ impl UniformInfiniteLight {
         u: Vec2,
         lambda: &SampledWavelengths,
         allow_incomplete_pdf: bool,
-    ) -> Option<LightLiSample> {
+    ) -> Option<LightLiSample<'_>> {
         if allow_incomplete_pdf {
             return None;
         }
         let wi = sample_uniform_sphere(u);
         Some(LightLiSample {
-            l: self.le(lambda),
+            l: Radiance::Value(self.le(lambda)),
             wi,
             pdf: UNIFORM_SPHERE_PDF,
             p_light: ctx.p + wi * (2.0 * self.scene_radius),

@@ -779,7 +779,10 @@ mod tests {
             let band = band_may_hit(&c, half_width);
             if closest <= half_width {
                 near += 1;
-                assert!(hull && band, "case {case}: {c:?} w {half_width} closest {closest}");
+                assert!(
+                    hull && band,
+                    "case {case}: {c:?} w {half_width} closest {closest}"
+                );
             } else if hull {
                 box_passes += 1;
                 band_rejects += !band as usize;
