@@ -645,10 +645,10 @@ mod tests {
             let start: Vec<f32> = (0..3).map(|_| rnd()).collect();
             let mut p = String::new();
             for k in 0..4 {
-                for a in 0..3 {
+                for (a, s) in start.iter().enumerate() {
                     let wiggle = 0.1 * (rnd() - 0.5);
                     let along = if a == 0 { 0.1 * k as f32 } else { 0.0 };
-                    write!(p, "{} ", start[a] + along + wiggle).unwrap();
+                    write!(p, "{} ", s + along + wiggle).unwrap();
                 }
             }
             let alpha = if i >= curves {
