@@ -6,6 +6,7 @@
 //! index and the caller intersects it exactly.
 
 use crate::math::{Bounds3, Ray};
+// obvhs's `traverse!` names `UVec2` unqualified.
 use glam::UVec2;
 use glam::{Vec3, Vec3A};
 use obvhs::aabb::Aabb;

@@ -627,19 +627,15 @@ fn integrator_settings(scene: &SceneDescription) -> Result<IntegratorSettings> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::shapes::test_support::TestRng;
     use std::fmt::Write as _;
     use std::path::Path;
 
     /// `curves` random curves, `cut_out` more with a fractional alpha, and
     /// `quads` random quads (two triangles each) in the unit box.
     fn random_scene(curves: usize, cut_out: usize, quads: usize) -> BuiltScene {
-        let mut state = 0x9e37_79b9u32;
-        let mut rnd = move || {
-            state ^= state << 13;
-            state ^= state >> 17;
-            state ^= state << 5;
-            state as f32 / u32::MAX as f32
-        };
+        let mut rng = TestRng::new(1);
+        let mut rnd = move || rng.uniform();
         let mut text = String::from("Camera \"perspective\"\nWorldBegin\n");
         for i in 0..curves + cut_out {
             let start: Vec<f32> = (0..3).map(|_| rnd()).collect();
@@ -685,13 +681,8 @@ mod tests {
     /// is the closest over every primitive tested on its own, and a shadow
     /// ray is blocked exactly when that hit is nearer than its end.
     fn check_against_every_primitive(scene: &BuiltScene) {
-        let mut state = 12345u32;
-        let mut rnd = move || {
-            state ^= state << 13;
-            state ^= state >> 17;
-            state ^= state << 5;
-            state as f32 / u32::MAX as f32
-        };
+        let mut rng = TestRng::new(2);
+        let mut rnd = move || rng.uniform();
         let mut hits = 0;
         for _ in 0..3000 {
             let origin = Vec3::new(rnd(), rnd(), rnd()) * 1.4 - 0.2;

@@ -127,27 +127,22 @@ pub trait BezierPoint:
     fn length_squared(self) -> f32;
 }
 
-impl BezierPoint for Vec3 {
-    #[inline]
-    fn lerp(self, other: Self, t: f32) -> Self {
-        Vec3::lerp(self, other, t)
-    }
-    #[inline]
-    fn length_squared(self) -> f32 {
-        Vec3::length_squared(self)
-    }
+macro_rules! bezier_point {
+    ($($point:ty),*) => {$(
+        impl BezierPoint for $point {
+            #[inline]
+            fn lerp(self, other: Self, t: f32) -> Self {
+                <$point>::lerp(self, other, t)
+            }
+            #[inline]
+            fn length_squared(self) -> f32 {
+                <$point>::length_squared(self)
+            }
+        }
+    )*};
 }
 
-impl BezierPoint for Vec2 {
-    #[inline]
-    fn lerp(self, other: Self, t: f32) -> Self {
-        Vec2::lerp(self, other, t)
-    }
-    #[inline]
-    fn length_squared(self) -> f32 {
-        Vec2::length_squared(self)
-    }
-}
+bezier_point!(Vec2, Vec3);
 
 /// The control points of the sub-curve over [u0, u1] (blossoming).
 pub fn blossom_piece(cp: &[Vec3; 4], u0: f32, u1: f32) -> [Vec3; 4] {
@@ -756,13 +751,8 @@ mod tests {
     /// ones, and rejects most of what passes the box test yet misses.
     #[test]
     fn band_test_keeps_every_hit_and_rejects_most_box_passes() {
-        let mut state = 0x1234_5678u32;
-        let mut rnd = move || {
-            state ^= state << 13;
-            state ^= state >> 17;
-            state ^= state << 5;
-            state as f32 / u32::MAX as f32
-        };
+        let mut rng = super::super::test_support::TestRng::new(5);
+        let mut rnd = || rng.uniform();
         let (mut near, mut box_passes, mut band_rejects) = (0, 0, 0);
         for case in 0..20000 {
             let scale = [1e-3, 1.0, 100.0][case % 3];

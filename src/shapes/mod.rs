@@ -33,7 +33,7 @@ pub mod triangle;
 pub mod warps;
 
 #[cfg(test)]
-mod test_support;
+pub(crate) mod test_support;
 
 pub use bilinear::BilinearPatch;
 pub use cylinder::Cylinder;
