@@ -119,29 +119,29 @@ impl BuiltScene {
         }
         let frame = crate::shapes::curve::RayFrame::new(ray)?;
         let mut best = None;
-        bvh.closest_hit_prefetching(
-            ray,
-            t_max,
-            |i| self.prefetch(i),
-            |i, t_max| {
-                if let Some(c) = self.curve_without_alpha(i) {
-                    let (piece, segment) = self.shapes.curve(c);
-                    let hit = piece.intersect_in(segment, &frame, t_max)?;
-                    best = Some(Best::Curve(hit, c, i));
-                    return Some(hit.t);
-                }
-                let prim = &self.primitives[i];
-                if let Some(alpha) = prim.alpha {
-                    let (si, t) = self.intersect_cut_out(prim, alpha, ray, t_max)?;
-                    best = Some(Best::Full(si, i));
-                    return Some(t);
-                }
-                let hit = prim.shape.intersect(&self.shapes, ray, t_max)?;
-                let t = hit.t_hit;
-                best = Some(Best::Full(hit.interaction, i));
-                Some(t)
-            },
-        )?;
+        let test = |i, t_max| {
+            if let Some(c) = self.curve_without_alpha(i) {
+                let (piece, segment) = self.shapes.curve(c);
+                let hit = piece.intersect_in(segment, &frame, t_max)?;
+                best = Some(Best::Curve(hit, c, i));
+                return Some(hit.t);
+            }
+            let prim = &self.primitives[i];
+            if let Some(alpha) = prim.alpha {
+                let (si, t) = self.intersect_cut_out(prim, alpha, ray, t_max)?;
+                best = Some(Best::Full(si, i));
+                return Some(t);
+            }
+            let hit = prim.shape.intersect(&self.shapes, ray, t_max)?;
+            let t = hit.t_hit;
+            best = Some(Best::Full(hit.interaction, i));
+            Some(t)
+        };
+        if self.has_curves() {
+            bvh.closest_hit_prefetching(ray, t_max, |i| self.prefetch(i), test)?;
+        } else {
+            bvh.closest_hit(ray, t_max, test)?;
+        }
         let (mut si, i) = match best? {
             Best::Full(si, i) => (si, i),
             Best::Curve(hit, c, i) => (hit.interaction(self.shapes.curve(c).1, ray), i),
@@ -161,22 +161,22 @@ impl BuiltScene {
     /// Whether any primitive of one BVH lies on `ray` before `t_max`.
     fn intersect_p_bvh(&self, bvh: &Bvh, ray: &Ray, t_max: f32) -> bool {
         let frame = crate::shapes::curve::RayFrame::new(ray);
-        bvh.any_hit_prefetching(
-            ray,
-            t_max,
-            |i| self.prefetch(i),
-            |i, t_max| {
-                if let (Some(c), Some(frame)) = (self.curve_without_alpha(i), &frame) {
-                    let (piece, segment) = self.shapes.curve(c);
-                    return piece.intersect_in(segment, frame, t_max).is_some();
-                }
-                let prim = &self.primitives[i];
-                match prim.alpha {
-                    Some(alpha) => self.intersect_cut_out(prim, alpha, ray, t_max).is_some(),
-                    None => prim.shape.intersect_p(&self.shapes, ray, t_max),
-                }
-            },
-        )
+        let test = |i, t_max| {
+            if let (Some(c), Some(frame)) = (self.curve_without_alpha(i), &frame) {
+                let (piece, segment) = self.shapes.curve(c);
+                return piece.intersect_in(segment, frame, t_max).is_some();
+            }
+            let prim = &self.primitives[i];
+            match prim.alpha {
+                Some(alpha) => self.intersect_cut_out(prim, alpha, ray, t_max).is_some(),
+                None => prim.shape.intersect_p(&self.shapes, ray, t_max),
+            }
+        };
+        if self.has_curves() {
+            bvh.any_hit_prefetching(ray, t_max, |i| self.prefetch(i), test)
+        } else {
+            bvh.any_hit(ray, t_max, test)
+        }
     }
 
     /// The curve piece of primitive `i`, if it is a curve without an alpha
@@ -193,6 +193,12 @@ impl BuiltScene {
                 .copied()
                 .filter(|&c| c != NOT_A_CURVE),
         }
+    }
+
+    /// Whether the scene has curves: only then do rays prefetch (a
+    /// triangle scene's traversal is faster without it).
+    fn has_curves(&self) -> bool {
+        !matches!(&self.curve_lookup, CurveLookup::Mapped(map) if map.is_empty())
     }
 
     /// Starts loading what testing primitive `i` reads first.
