@@ -92,8 +92,7 @@ fn tabulate(
             step.cdf / integral
         };
     }
-    let cdf: Vec<f32> = table.iter().map(|s| s.cdf).collect();
-    guide.extend((0..=n).map(|k| find_interval(&cdf, k as f32 / n as f32) as u32));
+    guide.extend((0..=n).map(|k| find_interval(table, k as f32 / n as f32) as u32));
     integral
 }
 
@@ -200,7 +199,7 @@ impl PiecewiseConstant1D {
 
     /// Number of steps.
     pub fn size(&self) -> usize {
-        self.steps.len() - 1
+        self.tables().size()
     }
 
     /// |f| on step `i`.
@@ -215,16 +214,16 @@ impl PiecewiseConstant1D {
     }
 }
 
-/// The last index `i` in `0..cdf.len() - 1` with `cdf[i] <= u` (clamped to
-/// that range), by binary search: the step `u` falls in.
-fn find_interval(cdf: &[f32], u: f32) -> usize {
-    let last = cdf.len().saturating_sub(2);
-    let mut size = cdf.len().saturating_sub(2);
+/// The last index `i` in `0..steps.len() - 1` with `steps[i].cdf <= u`
+/// (clamped to that range), by binary search: the step `u` falls in.
+fn find_interval(steps: &[Step], u: f32) -> usize {
+    let last = steps.len().saturating_sub(2);
+    let mut size = steps.len().saturating_sub(2);
     let mut first = 1usize;
     while size > 0 {
         let half = size >> 1;
         let middle = first + half;
-        if cdf[middle] <= u {
+        if steps[middle].cdf <= u {
             first = middle + 1;
             size -= half + 1;
         } else {
@@ -330,7 +329,7 @@ impl PiecewiseConstant2D {
         if integral == 0.0 {
             return 0.0;
         }
-        self.steps[row * (nu + 1) + column].value / integral
+        self.row(row).steps[column].value / integral
     }
 }
 
@@ -404,9 +403,8 @@ mod tests {
                     f32::from_bits(x.to_bits() + 1),
                 ]
             };
-            let cdf: Vec<f32> = d.steps.iter().map(|s| s.cdf).collect();
-            for &c in &cdf {
-                us.extend(around(c));
+            for step in &d.steps {
+                us.extend(around(step.cdf));
             }
             for k in 0..=n {
                 us.extend(around(k as f32 / n as f32));
@@ -415,7 +413,7 @@ mod tests {
             for u in us.into_iter().filter(|u| (0.0..1.0).contains(u)) {
                 assert_eq!(
                     d.tables().interval(u),
-                    find_interval(&cdf, u),
+                    find_interval(&d.steps, u),
                     "case {case} n {n} u {u}"
                 );
             }
