@@ -263,9 +263,7 @@ impl CurvePiece {
             frame.project(self.cp[2]),
             frame.project(self.cp[3]),
         ];
-        if !hull_may_hit(&c, self.half_width, frame.length * t_max)
-            || !band_may_hit(&c, self.half_width)
-        {
+        if !may_hit(&c, self.half_width, frame.length * t_max) {
             return None;
         }
         intersect_projected(
@@ -277,6 +275,14 @@ impl CurvePiece {
             self.refine_depth(),
         )
     }
+}
+
+/// Whether the curve with control points `c` in a ray's frame, grown
+/// sideways by `half_width`, may meet the ray between depth 0 and `z_max`:
+/// its box first, then the band across its chord.
+#[inline]
+fn may_hit(c: &[Vec3; 4], half_width: f32, z_max: f32) -> bool {
+    hull_may_hit(c, half_width, z_max) && band_may_hit(c, half_width)
 }
 
 /// Whether control points `c` in a ray's frame, grown sideways by
@@ -332,7 +338,7 @@ fn intersect_projected(
         // Each half is tried only if its own, tighter hull meets the ray.
         let half = |c: &[Vec3; 4], (a, b): (f32, f32), t_max: f32| {
             let half_width = 0.5 * segment.width_at(a).max(segment.width_at(b));
-            if !hull_may_hit(c, half_width, frame.length * t_max) || !band_may_hit(c, half_width) {
+            if !may_hit(c, half_width, frame.length * t_max) {
                 return None;
             }
             intersect_projected(segment, frame, t_max, c, (a, b), refine_depth - 1)
@@ -354,13 +360,16 @@ fn intersect_projected(
     let mut w = (-c[0].truncate()).dot(chord) / denom;
     // Only the curve's x and y (across the ray) enter g.
     let c_xy = c.map(|p| p.truncate());
+    // The control polygon's second differences: the second derivative of
+    // the cubic is 6 × their lerp.
+    let second = [
+        c_xy[2] - 2.0 * c_xy[1] + c_xy[0],
+        c_xy[3] - 2.0 * c_xy[2] + c_xy[1],
+    ];
     for _ in 0..4 {
         let wc = w.clamp(-0.5, 1.5);
         let (p, d1) = evaluate_bezier(&c_xy, wc);
-        // Second derivative of the cubic.
-        let d2 = 6.0
-            * ((c_xy[2] - 2.0 * c_xy[1] + c_xy[0]) * (1.0 - wc)
-                + (c_xy[3] - 2.0 * c_xy[2] + c_xy[1]) * wc);
+        let d2 = 6.0 * (second[0] * (1.0 - wc) + second[1] * wc);
         let g = p.x * d1.x + p.y * d1.y;
         let dg = d1.x * d1.x + d1.y * d1.y + p.x * d2.x + p.y * d2.y;
         if dg <= 0.0 {
