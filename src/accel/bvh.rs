@@ -10,13 +10,19 @@ use crate::math::{Bounds3, Ray};
 use glam::UVec2;
 use glam::{Vec3, Vec3A};
 use obvhs::aabb::Aabb;
-use obvhs::cwbvh::builder::build_cwbvh;
 use obvhs::cwbvh::node::CwBvhNode;
 use obvhs::cwbvh::CwBvh;
 use obvhs::BvhBuildParams;
 
+use super::parallel_build::build_cwbvh_in_parts;
+
 /// Primitive count above which the BVH is built for build speed.
 const LARGE_BUILD: usize = 1 << 20;
+
+/// Primitive count from which the BVH is built in eight parts in parallel
+/// (`accel::parallel_build`): there obvhs's single-threaded conversion to
+/// the 8-wide tree takes longer than its parallel PLOC.
+const PARTS_BUILD: usize = 1 << 16;
 
 /// A BVH whose leaves refer to primitives `0..n` in the order given to
 /// [`Bvh::build`] — callers should store their primitives in
@@ -56,7 +62,6 @@ impl Bvh {
             .iter()
             .map(|b| Aabb::new(Vec3A::from(b.min), Vec3A::from(b.max)))
             .collect();
-        let mut build_time = std::time::Duration::ZERO;
         // Above a million primitives the build dominates a quick render
         // (120 MB of random curves: 14 s with the medium build, 6.8 s with
         // the very fast one; pbrt-v4 takes 8.9 s), so trade a little
@@ -66,7 +71,7 @@ impl Bvh {
         } else {
             BvhBuildParams::medium_build()
         };
-        let mut tree = build_cwbvh(&aabbs, params, &mut build_time);
+        let mut tree = build_cwbvh_in_parts(&aabbs, params, PARTS_BUILD);
         // Leaves index the caller's reordered array directly: slot i is
         // the caller's primitive `first + i` (no index array to read per
         // primitive).

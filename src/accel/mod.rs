@@ -2,6 +2,7 @@
 
 pub mod bvh;
 pub mod instance;
+pub mod parallel_build;
 pub mod prefetch;
 
 pub use bvh::Bvh;
