@@ -13,6 +13,7 @@ use glam::Vec3A;
 use obvhs::aabb::Aabb;
 use obvhs::cwbvh::builder::build_cwbvh;
 use obvhs::cwbvh::bvh2_to_cwbvh::bvh2_to_cwbvh;
+use obvhs::cwbvh::node::CwBvhNode;
 use obvhs::cwbvh::CwBvh;
 use obvhs::ploc::PlocBuilder;
 use obvhs::BvhBuildParams;
@@ -143,13 +144,13 @@ fn join_under_root(parts: Vec<CwBvh>) -> Option<CwBvh> {
         // Part node k ≥ 1 moves to rest_base + k − 1; its root to 1 + rank.
         let node_shift = rest_base as u32 - 1;
         let prim_shift = primitive_indices.len() as u32;
-        let relocate = |mut node: obvhs::cwbvh::node::CwBvhNode| {
-            node.child_base_idx += node_shift;
-            node.primitive_base_idx += prim_shift;
-            node
+        let relocate = |node: &CwBvhNode| CwBvhNode {
+            child_base_idx: node.child_base_idx + node_shift,
+            primitive_base_idx: node.primitive_base_idx + prim_shift,
+            ..*node
         };
-        nodes[1 + rank] = relocate(part.nodes[0]);
-        nodes.extend(part.nodes[1..].iter().copied().map(relocate));
+        nodes[1 + rank] = relocate(&part.nodes[0]);
+        nodes.extend(part.nodes[1..].iter().map(relocate));
         primitive_indices.extend_from_slice(&part.primitive_indices);
         rest_base += part.nodes.len() - 1;
     }
