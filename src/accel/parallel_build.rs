@@ -144,12 +144,8 @@ fn join_under_root(parts: Vec<CwBvh>) -> Option<CwBvh> {
         // Part node k ≥ 1 moves to rest_base + k − 1; its root to 1 + rank.
         let node_shift = rest_base as u32 - 1;
         let prim_shift = primitive_indices.len() as u32;
-        let relocate = |node: &CwBvhNode| CwBvhNode {
-            child_base_idx: node.child_base_idx + node_shift,
-            primitive_base_idx: node.primitive_base_idx + prim_shift,
-            ..*node
-        };
-        nodes[1 + rank] = relocate(&part.nodes[0]);
+        let relocate = |node: &CwBvhNode| shifted(node, node_shift, prim_shift);
+        nodes[1 + rank] = shifted(&part.nodes[0], node_shift, prim_shift);
         nodes.extend(part.nodes[1..].iter().map(relocate));
         primitive_indices.extend_from_slice(&part.primitive_indices);
         rest_base += part.nodes.len() - 1;
@@ -171,6 +167,15 @@ fn join_under_root(parts: Vec<CwBvh>) -> Option<CwBvh> {
         exact_node_aabbs: None,
         uses_spatial_splits: false,
     })
+}
+
+/// `node` with its children and primitives moved by the given offsets.
+fn shifted(node: &CwBvhNode, node_shift: u32, prim_shift: u32) -> CwBvhNode {
+    CwBvhNode {
+        child_base_idx: node.child_base_idx + node_shift,
+        primitive_base_idx: node.primitive_base_idx + prim_shift,
+        ..*node
+    }
 }
 
 #[cfg(test)]
