@@ -2,8 +2,9 @@
 //! BVH, lights and the light sampler, camera, film, sampler, filter.
 //! The built scene is immutable and shared by all render threads.
 
-use super::alpha::{self, Alpha};
+use super::alpha;
 use super::description::{MaterialRef, SceneDescription, TextureValue};
+use super::placed_shapes;
 use crate::accel::instance::{build_levels, InstanceAccel};
 use crate::accel::Bvh;
 use crate::cameras::Camera;
@@ -16,10 +17,11 @@ use crate::materials::Material;
 use crate::math::{offset_ray_origin, Bounds3, Ray};
 use crate::samplers::Sampler;
 use crate::shapes::curve::CurvePiece;
-use crate::shapes::{create_shapes, Shape, ShapeStorage};
+use crate::shapes::{Shape, ShapeStorage};
 use crate::spectrum::color_space::SpectrumKind;
 use crate::textures::{create_texture, FloatTexture, NamedTextures, SpectrumTexture};
 use glam::{IVec2, Vec3};
+use pbrt_parser::Location as FileLoc;
 use pbrt_parser::Warning;
 use std::collections::HashMap;
 use std::path::PathBuf;
@@ -387,91 +389,58 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
     // Where each group (top level, then each instanced object) ends, kept
     // current before and after each shape (an invisible one is skipped).
     let mut group_ends = vec![0; plan.object_count + 1];
-    for placement in &plan.placements {
-        let shape = placement.shape;
-        group_ends[placement.group] = primitives.len();
-        let loc = &shape.entity.location.0;
-        let alpha = match Alpha::create(shape, &textures, base)? {
-            Alpha::Invisible => continue,
-            Alpha::Opaque => None,
-            Alpha::Cutout(texture) => {
-                alpha_textures.push(texture);
-                Some(alpha_textures.len() as u32 - 1)
-            }
-        };
-        let transform = scene.transform(shape.world_from_object);
-        if transform.is_animated() {
-            return scene_error("animated shapes (motion blur) are not supported yet", loc);
-        }
-        if !shape.inside_medium.is_empty() || !shape.outside_medium.is_empty() {
-            return scene_error("participating media are not supported yet", loc);
-        }
-        let mut render_from_object = render_from_world.then(&transform.start);
-        if let Some(instance) = &placement.render_from_instance {
-            render_from_object = instance.then(&render_from_object);
-        }
-        let material = match &shape.material {
-            MaterialRef::Anonymous(i) => *i as u32,
-            MaterialRef::Named(name) => match named_index.get(name.as_str()) {
-                Some(&i) => i,
-                None => {
-                    return scene_error(format!("named material \"{name}\" is not defined"), loc)
-                }
-            },
-        };
-        let created = create_shapes(
-            shape,
-            &render_from_object,
-            shape.reverse_orientation,
-            base,
-            &mut shapes,
-            &mut warnings,
-        )?;
-        // The dual hair model's diffracting outer cylinder: the curve is
-        // (1 + d_diff) × the fibre's width (issue 5; the BSDF maps the inner
-        // 1/(1 + d_diff) of h to the fibre).
-        let widening = materials[material as usize].curve_width_scale();
-        if widening != 1.0 {
-            shapes.scale_curve_widths(&created, widening);
-        }
-        if materials[material as usize].needs_fibre_frame() {
-            shapes.set_fibre_frames(&created);
-        }
-        let area = match shape.area_light {
-            Some(a) if matches!(materials[material as usize], Material::Interface) => {
-                warnings.push(Warning {
-                    message: "area light on a shape with the \"interface\" material is ignored (as in pbrt-v4)".into(),
-                    location: loc.clone(),
-                });
-                let _ = a;
-                None
-            }
-            Some(_) if matches!(shape.entity.kind.as_str(), "curve" | "bcurve") => {
-                return scene_error(
-                    "curves cannot be area lights: emission from curves is not supported (as in pbrt-v4)",
-                    loc,
-                )
-            }
-            Some(a) => Some(&scene.area_lights[a]),
-            None => None,
-        };
-        for created_shape in created {
-            let area_light = match area {
-                Some(entity) => {
-                    let light = lights::create_area_light(entity, &created_shape, &shapes, base)?;
-                    lights.push(Light::DiffuseArea(light));
-                    Some(lights.len() as u32 - 1)
-                }
-                None => None,
+    let context = placed_shapes::Context {
+        scene,
+        render_from_world: &render_from_world,
+        textures: &textures,
+        materials: &materials,
+        named_materials: &named_index,
+        base,
+    };
+    for run in placed_shapes::create(&plan.placements, &context) {
+        let first_location = run
+            .placed
+            .first()
+            .map(|p| p.entity.entity.location.0.clone());
+        let Some(offsets) = shapes.append(run.storage) else {
+            let message = format!(
+                "too many curve segments: a scene may have at most {}",
+                crate::shapes::curve::MAX_SEGMENTS
+            );
+            return match first_location {
+                Some(loc) => scene_error(message, &loc),
+                None => Err(crate::error::Error::Usage(message)),
             };
-            primitives.push(Primitive {
-                shape: created_shape,
-                material,
-                area_light,
-                alpha,
+        };
+        warnings.extend(run.warnings);
+        for placed in run.placed {
+            group_ends[placed.group] = primitives.len();
+            let alpha = placed.alpha.map(|texture| {
+                alpha_textures.push(texture);
+                alpha_textures.len() as u32 - 1
             });
+            for shape in placed.shapes {
+                let shape = shape.relocated(&offsets);
+                let area_light = match placed.area_light {
+                    Some(entity) => {
+                        let light = lights::create_area_light(entity, &shape, &shapes, base)?;
+                        lights.push(Light::DiffuseArea(light));
+                        Some(lights.len() as u32 - 1)
+                    }
+                    None => None,
+                };
+                primitives.push(Primitive {
+                    shape,
+                    material: placed.material,
+                    area_light,
+                    alpha,
+                });
+            }
+            group_ends[placed.group] = primitives.len();
         }
-        group_ends[placement.group] = primitives.len();
+        if let Some(error) = run.error {
+            return Err(error);
+        }
     }
     for light in &scene.lights {
         lights.push(lights::create_light(light, &render_from_world, base)?);
@@ -538,6 +507,21 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
         alpha_textures,
         warnings,
     })
+}
+
+/// The index of a shape's material in [`BuiltScene::materials`].
+pub(super) fn material_index(
+    material: &MaterialRef,
+    named: &HashMap<&str, u32>,
+    loc: &FileLoc,
+) -> Result<u32> {
+    match material {
+        MaterialRef::Anonymous(i) => Ok(*i as u32),
+        MaterialRef::Named(name) => match named.get(name.as_str()) {
+            Some(&i) => Ok(i),
+            None => scene_error(format!("named material \"{name}\" is not defined"), loc),
+        },
+    }
 }
 
 /// How a ray's test of primitive `i` finds its curve piece. A BVH leaf's
@@ -715,6 +699,65 @@ mod tests {
             hits += found.is_some() as usize;
         }
         assert!(hits > 150, "{hits} hits: the test should hit something");
+    }
+
+    /// Shapes made in parallel runs (`placed_shapes`) and appended keep
+    /// their own geometry, segment and material: shape i, a curve or a
+    /// quad by turns, lies at x = i with material i + 1. Enough shapes for
+    /// several runs.
+    #[test]
+    fn shapes_made_in_runs_keep_their_geometry_and_material() {
+        let n = 300;
+        let mut text = String::from("Camera \"perspective\"\nWorldBegin\n");
+        for i in 0..n {
+            let x = i as f32;
+            writeln!(
+                text,
+                "Material \"diffuse\" \"rgb reflectance\" [ {} 0 0 ]",
+                (i + 1) as f32 / 1000.0
+            )
+            .unwrap();
+            if i % 2 == 0 {
+                writeln!(
+                    text,
+                    "Shape \"curve\" \"point3 P\" [ {x} 0 5 {} 0.1 5 {} 0.1 5 {} 0 5 ] \"float width\" 0.1",
+                    x + 0.1,
+                    x + 0.3,
+                    x + 0.4
+                )
+                .unwrap();
+            } else {
+                writeln!(
+                    text,
+                    "Shape \"trianglemesh\" \"point3 P\" [ {x} 0 5 {} 0 5 {} 1 5 {x} 1 5 ] \"integer indices\" [ 0 1 2 0 2 3 ]",
+                    x + 0.4,
+                    x + 0.4
+                )
+                .unwrap();
+            }
+        }
+        let loaded = crate::scene::load_text(Path::new("runs.pbrt"), &text).unwrap();
+        let scene = build(&loaded.scene, &RenderOverrides::default()).unwrap();
+        // Material 0 is the default, before the first `Material`.
+        assert_eq!(scene.materials.len(), n + 1);
+        assert_eq!(scene.primitives.len(), n / 2 * 8 + n / 2 * 2);
+        for p in &scene.primitives {
+            let i = p.material as usize - 1;
+            let b = p.shape.bounds(&scene.shapes);
+            assert!(
+                b.min.x > i as f32 - 0.1 && b.max.x < i as f32 + 0.5,
+                "shape {i}: {b:?}"
+            );
+            match p.shape {
+                Shape::Curve(c) => {
+                    assert_eq!(i % 2, 0);
+                    let piece = &scene.shapes.curve_pieces[c as usize];
+                    let segment = &scene.shapes.curve_segments[piece.segment() as usize];
+                    assert_eq!(segment.cp[0].x, i as f32, "shape {i}'s segment");
+                }
+                _ => assert_eq!(i % 2, 1),
+            }
+        }
     }
 
     #[test]

@@ -7,6 +7,7 @@ pub mod builder;
 pub mod description;
 pub mod instancing;
 pub mod params;
+pub mod placed_shapes;
 pub mod schema;
 pub mod spectrum_param;
 

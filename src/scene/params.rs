@@ -10,10 +10,11 @@
 use crate::error::{scene_error, Result, SceneError};
 use glam::{DVec2, DVec3};
 use pbrt_parser::{Location, Param, ParamType, Values};
-use std::cell::Cell;
+use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 
-/// Parameters of one entity, with per-parameter "was looked up" flags.
-#[derive(Clone, Debug, Default)]
+/// Parameters of one entity, with per-parameter "was looked up" flags
+/// (atomic, so that the shapes of a description can be made in parallel).
+#[derive(Debug, Default)]
 pub struct ParamSet {
     params: Vec<Param>,
     /// How many of `params` are the directive's own; the rest came from
@@ -21,9 +22,24 @@ pub struct ParamSet {
     own: usize,
     /// "Looked up" flags of the first 64 parameters, as bits (a description
     /// holds millions of these: no allocation for them).
-    used: Cell<u64>,
+    used: AtomicU64,
     /// Flags of parameters past the 64th.
-    used_beyond: Vec<Cell<bool>>,
+    used_beyond: Vec<AtomicBool>,
+}
+
+impl Clone for ParamSet {
+    fn clone(&self) -> Self {
+        ParamSet {
+            params: self.params.clone(),
+            own: self.own,
+            used: AtomicU64::new(self.used.load(Ordering::Relaxed)),
+            used_beyond: self
+                .used_beyond
+                .iter()
+                .map(|u| AtomicBool::new(u.load(Ordering::Relaxed)))
+                .collect(),
+        }
+    }
 }
 
 impl PartialEq for ParamSet {
@@ -39,8 +55,8 @@ impl ParamSet {
         // Later attributes override earlier ones: search them last-first.
         all.extend(attributes.iter().rev().cloned());
         ParamSet {
-            used: Cell::new(0),
-            used_beyond: (64..all.len()).map(|_| Cell::new(false)).collect(),
+            used: AtomicU64::new(0),
+            used_beyond: (64..all.len()).map(|_| AtomicBool::new(false)).collect(),
             params: all,
             own,
         }
@@ -52,17 +68,17 @@ impl ParamSet {
 
     fn mark_used(&self, i: usize) {
         if i < 64 {
-            self.used.set(self.used.get() | 1 << i);
+            self.used.fetch_or(1 << i, Ordering::Relaxed);
         } else {
-            self.used_beyond[i - 64].set(true);
+            self.used_beyond[i - 64].store(true, Ordering::Relaxed);
         }
     }
 
     fn is_used(&self, i: usize) -> bool {
         if i < 64 {
-            self.used.get() & (1 << i) != 0
+            self.used.load(Ordering::Relaxed) & (1 << i) != 0
         } else {
-            self.used_beyond[i - 64].get()
+            self.used_beyond[i - 64].load(Ordering::Relaxed)
         }
     }
 

@@ -220,6 +220,18 @@ impl CurvePiece {
         self.segment_and_depth & ((1 << SEGMENT_BITS) - 1)
     }
 
+    /// Moves the piece's segment index by `offset` (its segment moved from
+    /// one storage to another); None if the index would pass
+    /// [`MAX_SEGMENTS`].
+    pub fn shift_segment(&mut self, offset: u32) -> Option<()> {
+        let segment = self.segment().checked_add(offset)?;
+        if segment as usize >= MAX_SEGMENTS {
+            return None;
+        }
+        self.segment_and_depth += offset;
+        Some(())
+    }
+
     /// Halvings still needed per ray before the piece is flat enough for
     /// one closest point.
     pub fn refine_depth(&self) -> u8 {

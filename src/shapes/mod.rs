@@ -72,7 +72,39 @@ pub struct ShapeStorage {
     pub curve_pieces: Vec<curve::CurvePiece>,
 }
 
+/// Where one storage's items start in another it was appended to
+/// ([`ShapeStorage::append`]).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct StorageOffsets {
+    triangle_meshes: u32,
+    bilinear_meshes: u32,
+    curve_pieces: u32,
+}
+
 impl ShapeStorage {
+    /// Moves `other`'s items to the end of this storage; its shapes then
+    /// need [`Shape::relocated`]. None (and nothing moved) if the curve
+    /// segments would pass [`curve::MAX_SEGMENTS`].
+    pub fn append(&mut self, mut other: ShapeStorage) -> Option<StorageOffsets> {
+        let segment_offset = self.curve_segments.len() as u32;
+        if self.curve_segments.len() + other.curve_segments.len() > curve::MAX_SEGMENTS {
+            return None;
+        }
+        for piece in &mut other.curve_pieces {
+            piece.shift_segment(segment_offset)?;
+        }
+        let offsets = StorageOffsets {
+            triangle_meshes: self.triangle_meshes.len() as u32,
+            bilinear_meshes: self.bilinear_meshes.len() as u32,
+            curve_pieces: self.curve_pieces.len() as u32,
+        };
+        self.triangle_meshes.append(&mut other.triangle_meshes);
+        self.bilinear_meshes.append(&mut other.bilinear_meshes);
+        self.curve_segments.append(&mut other.curve_segments);
+        self.curve_pieces.append(&mut other.curve_pieces);
+        Some(offsets)
+    }
+
     /// Multiplies the widths of the curve segments `shapes` belong to by
     /// `scale` (each segment once).
     pub fn scale_curve_widths(&mut self, shapes: &[Shape], scale: f32) {
@@ -219,6 +251,21 @@ pub(crate) fn first_unclipped(
 }
 
 impl Shape {
+    /// This shape after its storage was appended to another at `offsets`.
+    pub fn relocated(self, offsets: &StorageOffsets) -> Shape {
+        match self {
+            Shape::Triangle(t) => {
+                Shape::Triangle(Triangle::new(t.mesh + offsets.triangle_meshes, t.index))
+            }
+            Shape::BilinearPatch(b) => Shape::BilinearPatch(BilinearPatch::new(
+                b.mesh + offsets.bilinear_meshes,
+                b.index,
+            )),
+            Shape::Curve(c) => Shape::Curve(c + offsets.curve_pieces),
+            other => other,
+        }
+    }
+
     /// Render-space bounds.
     pub fn bounds(&self, storage: &ShapeStorage) -> Bounds3 {
         match self {
