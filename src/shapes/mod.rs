@@ -82,6 +82,18 @@ pub struct StorageOffsets {
 }
 
 impl ShapeStorage {
+    /// Makes room for appending `others`.
+    pub fn reserve_for<'a>(&mut self, others: impl Iterator<Item = &'a ShapeStorage> + Clone) {
+        let total = |count: fn(&ShapeStorage) -> usize| others.clone().map(count).sum::<usize>();
+        self.triangle_meshes
+            .reserve(total(|s| s.triangle_meshes.len()));
+        self.bilinear_meshes
+            .reserve(total(|s| s.bilinear_meshes.len()));
+        self.curve_segments
+            .reserve(total(|s| s.curve_segments.len()));
+        self.curve_pieces.reserve(total(|s| s.curve_pieces.len()));
+    }
+
     /// Moves `other`'s items to the end of this storage; its shapes then
     /// need [`Shape::relocated`]. None (and nothing moved) if the curve
     /// segments would pass [`curve::MAX_SEGMENTS`].
