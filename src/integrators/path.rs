@@ -19,6 +19,7 @@ use crate::scene::build::BuiltScene;
 use crate::scene::build::IntegratorKind;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::textures::TextureEvalContext;
+use glam::Vec2;
 
 /// The MIS weight of a sample drawn with density `f` against the other
 /// strategy's `g`, by the integrator's heuristic.
@@ -99,6 +100,17 @@ pub fn path_li(
             }
         }
         let material = &scene.materials[prim.material as usize];
+        // Where the vertex will surely sample a light (hair, below the
+        // depth limit), its numbers are drawn now (no draw comes between,
+        // so the order is pbrt-v4's) and the light's sampling table is
+        // fetched from memory while the BSDF is made.
+        let light_u = (depth != max_depth && material.always_non_specular()).then(|| {
+            let u = (sampler.get_1d(), sampler.get_2d());
+            if let Some(i) = scene.light_sampler.sample_anywhere(u.0) {
+                scene.lights[i].prefetch_sample(u.1, true);
+            }
+            u
+        });
         let ctx = if scene.integrator.texture_filtering {
             let (dpdx, dpdy) = if from_camera {
                 scene.camera.first_hit_dp_dxy(camera_ray, si.p, si.n, spp)
@@ -126,7 +138,7 @@ pub fn path_li(
         depth += 1;
         let flags = bsdf.flags();
         if flags.is_non_specular() {
-            let ld = sample_ld(scene, &si, &bsdf, lambda, sampler, volpath);
+            let ld = sample_ld(scene, &si, &bsdf, lambda, sampler, volpath, light_u);
             l += beta * ld;
         }
         prev_ctx = Some(light_context(&si));
@@ -183,6 +195,7 @@ fn sample_ld(
     lambda: &SampledWavelengths,
     sampler: &mut Sampler,
     volpath: bool,
+    light_u: Option<(f32, Vec2)>,
 ) -> SampledSpectrum {
     let mut ctx = light_context(si);
     let flags = bsdf.flags();
@@ -192,8 +205,7 @@ fn sample_ld(
     } else if flags.is_transmissive() && !flags.is_reflective() {
         ctx.p = crate::math::offset_ray_origin(si.p, si.p_error, si.n, -si.wo);
     }
-    let u = sampler.get_1d();
-    let u_light = sampler.get_2d();
+    let (u, u_light) = light_u.unwrap_or_else(|| (sampler.get_1d(), sampler.get_2d()));
     let Some((light_index, p_light)) = scene.light_sampler.sample(&ctx, u) else {
         return SampledSpectrum::ZERO;
     };

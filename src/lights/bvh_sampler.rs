@@ -231,8 +231,9 @@ impl BvhLightSampler {
         n / (n + if self.nodes.is_empty() { 0.0 } else { 1.0 })
     }
 
-    /// A light and the probability of choosing it at `ctx`.
-    pub fn sample(&self, ctx: &LightSampleContext, u: f32) -> Option<(usize, f32)> {
+    /// The infinite light `sample(_, u)` chooses, if it chooses one (that
+    /// choice does not depend on the shading point).
+    pub fn sample_infinite(&self, u: f32) -> Option<(usize, f32)> {
         let p_infinite = self.p_infinite();
         if u < p_infinite {
             let u = (u / p_infinite).min(ONE_MINUS_EPSILON);
@@ -240,6 +241,15 @@ impl BvhLightSampler {
             let index = ((u * n as f32) as usize).min(n - 1);
             return Some((self.infinite[index] as usize, p_infinite / n as f32));
         }
+        None
+    }
+
+    /// A light and the probability of choosing it at `ctx`.
+    pub fn sample(&self, ctx: &LightSampleContext, u: f32) -> Option<(usize, f32)> {
+        if let Some(chosen) = self.sample_infinite(u) {
+            return Some(chosen);
+        }
+        let p_infinite = self.p_infinite();
         if self.nodes.is_empty() {
             return None;
         }

@@ -157,6 +157,17 @@ impl ImageInfiniteLight {
         })
     }
 
+    /// Starts loading what `sample_li(_, u, allow_incomplete_pdf)` will
+    /// read first from its sampling tables.
+    #[inline]
+    pub fn prefetch_sample(&self, u: Vec2, allow_incomplete_pdf: bool) {
+        if allow_incomplete_pdf {
+            self.compensated.prefetch(u);
+        } else {
+            self.distribution.prefetch(u);
+        }
+    }
+
     pub fn pdf_li(&self, wi: Vec3, allow_incomplete_pdf: bool) -> f32 {
         let w = self.light_from_render.transform_vector3(wi).normalize();
         let uv = equal_area_sphere_to_square(w);

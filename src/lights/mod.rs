@@ -132,6 +132,15 @@ impl Light {
         }
     }
 
+    /// Starts loading what `sample_li(_, u, _, _, allow_incomplete_pdf)`
+    /// will read first where that is a large table (an image light's).
+    #[inline]
+    pub fn prefetch_sample(&self, u: Vec2, allow_incomplete_pdf: bool) {
+        if let Light::ImageInfinite(l) = self {
+            l.prefetch_sample(u, allow_incomplete_pdf);
+        }
+    }
+
     /// Solid-angle density with which `sample_li` picks `wi`.
     pub fn pdf_li(
         &self,

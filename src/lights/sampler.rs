@@ -37,6 +37,15 @@ impl LightSampler {
         }
     }
 
+    /// The light `sample(_, u)` chooses wherever the shading point is, if
+    /// that does not depend on it.
+    pub fn sample_anywhere(&self, u: f32) -> Option<usize> {
+        match self {
+            LightSampler::Table(t) => t.sample(u).map(|(i, _)| i),
+            LightSampler::Bvh(b) => b.sample_infinite(u).map(|(i, _)| i),
+        }
+    }
+
     /// The probability that `sample` chooses `light` at `ctx`.
     pub fn pmf(&self, ctx: &LightSampleContext, light: usize) -> f32 {
         match self {

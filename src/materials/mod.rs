@@ -189,6 +189,13 @@ impl Material {
         }
     }
 
+    /// Whether `bsdf` always gives a BSDF with a non-specular lobe (so a
+    /// path tracer always samples a light at its hits): hair, whose lobes
+    /// are all glossy.
+    pub fn always_non_specular(&self) -> bool {
+        matches!(self, Material::Hair { .. })
+    }
+
     /// Whether hits need a view-independent direction across the curve
     /// (`SurfaceInteraction::fiber_reference`): an elliptical fibre of the
     /// dual hair model is oriented by it.

@@ -51,17 +51,28 @@ struct Step {
     value: f32,
 }
 
+/// Guide entry k of a table: `first`, the interval u = k / n falls in,
+/// with that interval's step and the next step's cdf. A sample u that
+/// falls in it (most do) reads nothing but this entry.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[repr(C, align(16))]
+struct Cut {
+    first: u32,
+    cdf: f32,
+    value: f32,
+    next_cdf: f32,
+}
+
 /// The tables of one step function: `steps` (n + 1 entries, the last one
-/// holding cdf 1 and no value) and `guide`, `guide[k]` the interval
-/// `u = k / n` falls in, for k = 0…n. A sample u in [k/n, (k+1)/n) lies in
-/// an interval between `guide[k]` and `guide[k + 1]`, so it searches there:
-/// one or two steps on average instead of log₂ n dependent loads, with
-/// exactly the interval the full search finds (the cutpoint method of Chen
-/// and Asau 1974).
+/// holding cdf 1 and no value) and `guide` (n + 1 [`Cut`]s, k = 0…n). A
+/// sample u in [k/n, (k+1)/n) lies in an interval between `guide[k].first`
+/// and `guide[k + 1].first`, so it searches there: one or two steps on
+/// average instead of log₂ n dependent loads, with exactly the interval
+/// the full search finds (the cutpoint method of Chen and Asau 1974).
 #[derive(Clone, Copy)]
 struct Tables<'a> {
     steps: &'a [Step],
-    guide: &'a [u32],
+    guide: &'a [Cut],
 }
 
 /// Appends the tables of `|function|` on equal steps over `[min, max]` to
@@ -72,7 +83,7 @@ fn tabulate(
     min: f32,
     max: f32,
     steps: &mut Vec<Step>,
-    guide: &mut Vec<u32>,
+    guide: &mut Vec<Cut>,
 ) -> f32 {
     let n = function.len();
     let first = steps.len();
@@ -92,7 +103,15 @@ fn tabulate(
             step.cdf / integral
         };
     }
-    guide.extend((0..=n).map(|k| find_interval(table, k as f32 / n as f32) as u32));
+    guide.extend((0..=n).map(|k| {
+        let first = find_interval(table, k as f32 / n as f32);
+        Cut {
+            first: first as u32,
+            cdf: table[first].cdf,
+            value: table[first].value,
+            next_cdf: table[first + 1].cdf,
+        }
+    }));
     integral
 }
 
@@ -102,14 +121,24 @@ impl Tables<'_> {
         self.steps.len() - 1
     }
 
-    /// The interval `u` falls in: the last i ≤ n − 1 with cdf[i] ≤ u, as
-    /// [`find_interval`] finds it.
+    /// The interval `u` falls in (the last i ≤ n − 1 with cdf[i] ≤ u, as
+    /// [`find_interval`] finds it), its step and the next step's cdf.
     #[inline]
-    fn interval(&self, u: f32) -> usize {
+    fn locate(&self, u: f32) -> (usize, Step, f32) {
         let n = self.size();
-        let cdf = |i: usize| self.steps[i].cdf;
         let k = ((u * n as f32) as usize).min(n - 1);
-        let (mut lo, mut hi) = (self.guide[k] as usize, self.guide[k + 1] as usize);
+        let cut = self.guide[k];
+        // cdf[i] ≤ u < cdf[i + 1] makes i the last interval with cdf ≤ u,
+        // whichever bucket rounding put u in.
+        if cut.cdf <= u && u < cut.next_cdf {
+            let step = Step {
+                cdf: cut.cdf,
+                value: cut.value,
+            };
+            return (cut.first as usize, step, cut.next_cdf);
+        }
+        let cdf = |i: usize| self.steps[i].cdf;
+        let (mut lo, mut hi) = (cut.first as usize, self.guide[k + 1].first as usize);
         // Rounding of u · n may have put u one bucket off: widen to it.
         while lo > 0 && cdf(lo) > u {
             lo -= 1;
@@ -127,7 +156,7 @@ impl Tables<'_> {
                 hi = middle - 1;
             }
         }
-        lo
+        (lo, self.steps[lo], cdf(lo + 1))
     }
 
     /// Samples with `u` in [0, 1) a function with integral `integral` over
@@ -135,10 +164,9 @@ impl Tables<'_> {
     /// lies in.
     #[inline]
     fn sample(&self, u: f32, integral: f32, min: f32, max: f32) -> (f32, f32, usize) {
-        let offset = self.interval(u);
-        let (step, next) = (self.steps[offset], self.steps[offset + 1]);
+        let (offset, step, next_cdf) = self.locate(u);
         let mut du = u - step.cdf;
-        let step_mass = next.cdf - step.cdf;
+        let step_mass = next_cdf - step.cdf;
         if step_mass > 0.0 {
             du /= step_mass;
         }
@@ -157,7 +185,7 @@ impl Tables<'_> {
 #[derive(Clone, Debug, PartialEq)]
 pub struct PiecewiseConstant1D {
     steps: Vec<Step>,
-    guide: Vec<u32>,
+    guide: Vec<Cut>,
     min: f32,
     max: f32,
     /// ∫|f| over [min, max].
@@ -245,7 +273,7 @@ pub struct PiecewiseConstant2D {
     /// Row v's steps at `v (nu + 1) .. (v + 1)(nu + 1)`.
     steps: Vec<Step>,
     /// Row v's guide at the same place.
-    guides: Vec<u32>,
+    guides: Vec<Cut>,
     /// The distribution over rows of each row's integral (its values are
     /// the rows' integrals).
     marginal: PiecewiseConstant1D,
@@ -316,6 +344,18 @@ impl PiecewiseConstant2D {
             pdf_x * pdf_y,
             UVec2::new(column as u32, row as u32),
         )
+    }
+
+    /// Starts loading the guide entry `sample_with_cell(u)` will read in
+    /// its row (the marginal table is small and cached).
+    #[inline]
+    pub fn prefetch(&self, u: Vec2) {
+        let (_, _, row) = self.marginal.sample(u.y);
+        let n = self.nu;
+        let k = ((u.x * n as f32) as usize).min(n - 1);
+        if let Some(cut) = self.guides.get(row * (n + 1) + k) {
+            crate::accel::prefetch(cut);
+        }
     }
 
     /// The density of sampling `p` (a point of the domain).
@@ -411,9 +451,10 @@ mod tests {
             }
             us.extend([0.0, ONE_BELOW_ONE]);
             for u in us.into_iter().filter(|u| (0.0..1.0).contains(u)) {
+                let i = find_interval(&d.steps, u);
                 assert_eq!(
-                    d.tables().interval(u),
-                    find_interval(&d.steps, u),
+                    d.tables().locate(u),
+                    (i, d.steps[i], d.steps[i + 1].cdf),
                     "case {case} n {n} u {u}"
                 );
             }
