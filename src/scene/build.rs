@@ -398,7 +398,18 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
         named_materials: &named_index,
         base,
     };
-    let runs = placed_shapes::create(&plan.placements, &context);
+    // The scene's own lights (an environment map's image and sampling
+    // tables) are made while the shapes are.
+    let (runs, scene_lights) = rayon::join(
+        || placed_shapes::create(&plan.placements, &context),
+        || -> Result<Vec<Light>> {
+            scene
+                .lights
+                .iter()
+                .map(|light| lights::create_light(light, &render_from_world, base))
+                .collect()
+        },
+    );
     shapes.reserve_for(runs.iter().map(|r| &r.storage));
     primitives.reserve(
         runs.iter()
@@ -451,9 +462,7 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
             return Err(error);
         }
     }
-    for light in &scene.lights {
-        lights.push(lights::create_light(light, &render_from_world, base)?);
-    }
+    lights.extend(scene_lights?);
 
     // The BVHs (top level, each instanced object), primitives in their
     // order, and the instances.
