@@ -739,6 +739,29 @@ mod tests {
         assert!(hits > 150, "{hits} hits: the test should hit something");
     }
 
+    /// Of several bad shapes in different runs, the first in the file is
+    /// the one reported, with its line.
+    #[test]
+    fn the_first_bad_shape_of_the_runs_is_reported() {
+        let mut text = String::from("Camera \"perspective\"\nWorldBegin\n");
+        for i in 0..400 {
+            let kind = if i == 250 || i == 390 { "twisted" } else { "flat" };
+            writeln!(
+                text,
+                "Shape \"curve\" \"point3 P\" [ {i} 0 5 {i} 0.1 5 {i} 0.2 5 {i} 0.3 5 ] \"string type\" \"{kind}\""
+            )
+            .unwrap();
+        }
+        let loaded = crate::scene::load_text(Path::new("bad.pbrt"), &text).unwrap();
+        let error = build(&loaded.scene, &RenderOverrides::default())
+            .err()
+            .map(|e| e.to_string())
+            .unwrap_or_default();
+        // Line 1 is the camera, 2 WorldBegin: shape 250 is on line 253.
+        assert!(error.contains("bad.pbrt:253:"), "{error}");
+        assert!(error.contains("twisted"), "{error}");
+    }
+
     /// Shapes made in parallel runs (`placed_shapes`) and appended keep
     /// their own geometry, segment and material: shape i, a curve or a
     /// quad by turns, lies at x = i with material i + 1. Enough shapes for
