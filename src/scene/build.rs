@@ -739,13 +739,34 @@ mod tests {
         assert!(hits > 150, "{hits} hits: the test should hit something");
     }
 
+    /// An instanced object whose only shape is invisible (alpha 0) is an
+    /// empty group between others: the groups' ranges stay in order.
+    #[test]
+    fn an_object_of_invisible_shapes_is_an_empty_group() {
+        let text = "Camera \"perspective\"\nWorldBegin\n\
+            Shape \"sphere\"\n\
+            ObjectBegin \"ghost\"\nShape \"sphere\" \"float alpha\" 0\nObjectEnd\n\
+            ObjectBegin \"ball\"\nShape \"sphere\"\nShape \"sphere\" \"float radius\" 2\nObjectEnd\n\
+            ObjectInstance \"ghost\"\nObjectInstance \"ghost\"\n\
+            ObjectInstance \"ball\"\nTranslate 5 0 0\nObjectInstance \"ball\"\n";
+        let loaded = crate::scene::load_text(Path::new("ghost.pbrt"), text).unwrap();
+        let scene = build(&loaded.scene, &RenderOverrides::default()).unwrap();
+        assert_eq!(scene.primitives.len(), 3);
+        let ray = Ray::new(Vec3::new(5.0, 0.0, -10.0), Vec3::Z, 0.0);
+        assert!(scene.intersect(&ray, f32::INFINITY).is_some());
+    }
+
     /// Of several bad shapes in different runs, the first in the file is
     /// the one reported, with its line.
     #[test]
     fn the_first_bad_shape_of_the_runs_is_reported() {
         let mut text = String::from("Camera \"perspective\"\nWorldBegin\n");
         for i in 0..400 {
-            let kind = if i == 250 || i == 390 { "twisted" } else { "flat" };
+            let kind = if i == 250 || i == 390 {
+                "twisted"
+            } else {
+                "flat"
+            };
             writeln!(
                 text,
                 "Shape \"curve\" \"point3 P\" [ {i} 0 5 {i} 0.1 5 {i} 0.2 5 {i} 0.3 5 ] \"string type\" \"{kind}\""
