@@ -13,6 +13,7 @@ use obvhs::aabb::Aabb;
 use obvhs::cwbvh::node::CwBvhNode;
 use obvhs::cwbvh::CwBvh;
 use obvhs::BvhBuildParams;
+use rayon::prelude::*;
 
 use super::parallel_build::build_cwbvh_in_parts;
 
@@ -47,7 +48,10 @@ impl Bvh {
     /// primitives share one array with the scene's; see `accel::instance`).
     /// `order` is still relative (`0..bounds.len()`).
     pub fn build_from(bounds: &[Bounds3], first: u32) -> (Bvh, Vec<u32>) {
-        let total = bounds.iter().fold(Bounds3::EMPTY, |a, b| a.union(*b));
+        let total = bounds
+            .par_iter()
+            .fold(|| Bounds3::EMPTY, |a, b| a.union(*b))
+            .reduce(|| Bounds3::EMPTY, Bounds3::union);
         if bounds.is_empty() {
             return (
                 Bvh {
@@ -59,7 +63,7 @@ impl Bvh {
             );
         }
         let aabbs: Vec<Aabb> = bounds
-            .iter()
+            .par_iter()
             .map(|b| Aabb::new(Vec3A::from(b.min), Vec3A::from(b.max)))
             .collect();
         // Above a million primitives the build dominates a quick render

@@ -42,8 +42,7 @@ pub fn build_cwbvh_in_parts(
     }
     let centroids: Vec<Vec3A> = aabbs.par_iter().map(|b| b.center()).collect();
     let mut order: Vec<u32> = (0..aabbs.len() as u32).collect();
-    let mut groups = Vec::with_capacity(GROUPS);
-    split_at_medians(&mut order, &centroids, GROUPS, &mut groups);
+    let groups = split_at_medians(&mut order, &centroids, GROUPS);
 
     let parts: Vec<CwBvh> = groups
         .par_iter()
@@ -60,24 +59,29 @@ pub fn build_cwbvh_in_parts(
 }
 
 /// Splits `indices` into `count` (a power of two) equal groups by halving
-/// at the median centroid along the longest axis of each half's centroids.
+/// at the median centroid along the longest axis of each half's centroids
+/// (the halves in parallel).
 fn split_at_medians<'a>(
     indices: &'a mut [u32],
     centroids: &[Vec3A],
     count: usize,
-    groups: &mut Vec<&'a [u32]>,
-) {
+) -> Vec<&'a [u32]> {
     if count <= 1 {
-        groups.push(indices);
-        return;
+        return vec![indices];
     }
-    let (lo, hi) = indices.iter().fold(
-        (Vec3A::splat(f32::INFINITY), Vec3A::splat(f32::NEG_INFINITY)),
-        |(lo, hi), &i| {
-            let c = centroids[i as usize];
-            (lo.min(c), hi.max(c))
-        },
-    );
+    let (lo, hi) = indices
+        .par_iter()
+        .fold(
+            || (Vec3A::splat(f32::INFINITY), Vec3A::splat(f32::NEG_INFINITY)),
+            |(lo, hi), &i| {
+                let c = centroids[i as usize];
+                (lo.min(c), hi.max(c))
+            },
+        )
+        .reduce(
+            || (Vec3A::splat(f32::INFINITY), Vec3A::splat(f32::NEG_INFINITY)),
+            |a, b| (a.0.min(b.0), a.1.max(b.1)),
+        );
     let extent = hi - lo;
     let axis = if extent.x >= extent.y && extent.x >= extent.z {
         0
@@ -91,8 +95,12 @@ fn split_at_medians<'a>(
         centroids[a as usize][axis].total_cmp(&centroids[b as usize][axis])
     });
     let (left, right) = indices.split_at_mut(middle);
-    split_at_medians(left, centroids, count / 2, groups);
-    split_at_medians(right, centroids, count / 2, groups);
+    let (mut groups, right_groups) = rayon::join(
+        || split_at_medians(left, centroids, count / 2),
+        || split_at_medians(right, centroids, count / 2),
+    );
+    groups.extend(right_groups);
+    groups
 }
 
 /// One tree of the eight `parts`: a root node whose children are the

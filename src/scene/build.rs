@@ -410,30 +410,32 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
                 .collect()
         },
     );
-    shapes.reserve_for(runs.iter().map(|r| &r.storage));
     primitives.reserve(
         runs.iter()
             .flat_map(|r| &r.placed)
             .map(|p| p.shapes.len())
             .sum(),
     );
-    for run in runs {
-        let first_location = run
-            .placed
-            .first()
-            .map(|p| p.entity.entity.location.0.clone());
-        let Some(offsets) = shapes.append(run.storage) else {
+    let (storages, runs): (Vec<ShapeStorage>, Vec<_>) = runs
+        .into_iter()
+        .map(|run| (run.storage, (run.placed, run.warnings, run.error)))
+        .unzip();
+    let offsets = match shapes.append_all(storages) {
+        Ok(offsets) => offsets,
+        Err(i) => {
             let message = format!(
                 "too many curve segments: a scene may have at most {}",
                 crate::shapes::curve::MAX_SEGMENTS
             );
-            return match first_location {
-                Some(loc) => scene_error(message, &loc),
+            return match runs[i].0.first() {
+                Some(placed) => scene_error(message, &placed.entity.entity.location.0),
                 None => Err(crate::error::Error::Usage(message)),
             };
-        };
-        warnings.extend(run.warnings);
-        for placed in run.placed {
+        }
+    };
+    for ((placed_shapes, run_warnings, run_error), offsets) in runs.into_iter().zip(offsets) {
+        warnings.extend(run_warnings);
+        for placed in placed_shapes {
             group_ends[placed.group] = primitives.len();
             let alpha = placed.alpha.map(|texture| {
                 alpha_textures.push(texture);
@@ -458,7 +460,7 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
             }
             group_ends[placed.group] = primitives.len();
         }
-        if let Some(error) = run.error {
+        if let Some(error) = run_error {
             return Err(error);
         }
     }

@@ -220,16 +220,13 @@ impl CurvePiece {
         self.segment_and_depth & ((1 << SEGMENT_BITS) - 1)
     }
 
-    /// Moves the piece's segment index by `offset` (its segment moved from
-    /// one storage to another); None if the index would pass
-    /// [`MAX_SEGMENTS`].
-    pub fn shift_segment(&mut self, offset: u32) -> Option<()> {
-        let segment = self.segment().checked_add(offset)?;
-        if segment as usize >= MAX_SEGMENTS {
-            return None;
-        }
+    /// The piece with its segment index moved by `offset` (its segment
+    /// moved from one storage to another; the caller keeps the index
+    /// below [`MAX_SEGMENTS`]).
+    pub fn with_segment_shifted(mut self, offset: u32) -> Self {
+        debug_assert!(self.segment() as usize + (offset as usize) < MAX_SEGMENTS);
         self.segment_and_depth += offset;
-        Some(())
+        self
     }
 
     /// Halvings still needed per ray before the piece is flat enough for

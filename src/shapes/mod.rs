@@ -48,6 +48,7 @@ use crate::math::{offset_ray_origin, Bounds3, Ray, Transform};
 use crate::scene::description;
 use glam::{Vec2, Vec3};
 use pbrt_parser::{ParamType, Warning};
+use rayon::prelude::*;
 use std::path::Path;
 
 /// A shape of the scene. Per-ray code matches on it; no trait objects.
@@ -82,39 +83,62 @@ pub struct StorageOffsets {
 }
 
 impl ShapeStorage {
-    /// Makes room for appending `others`.
-    pub fn reserve_for<'a>(&mut self, others: impl Iterator<Item = &'a ShapeStorage> + Clone) {
-        let total = |count: fn(&ShapeStorage) -> usize| others.clone().map(count).sum::<usize>();
-        self.triangle_meshes
-            .reserve(total(|s| s.triangle_meshes.len()));
-        self.bilinear_meshes
-            .reserve(total(|s| s.bilinear_meshes.len()));
-        self.curve_segments
-            .reserve(total(|s| s.curve_segments.len()));
-        self.curve_pieces.reserve(total(|s| s.curve_pieces.len()));
-    }
-
-    /// Moves `other`'s items to the end of this storage; its shapes then
-    /// need [`Shape::relocated`]. None (and nothing moved) if the curve
-    /// segments would pass [`curve::MAX_SEGMENTS`].
-    pub fn append(&mut self, mut other: ShapeStorage) -> Option<StorageOffsets> {
-        let segment_offset = self.curve_segments.len() as u32;
-        if self.curve_segments.len() + other.curve_segments.len() > curve::MAX_SEGMENTS {
-            return None;
+    /// Moves the items of `others` to the end of this storage, in order;
+    /// the shapes made into `others[i]` then need [`Shape::relocated`] with
+    /// the `i`-th offsets. The curve pieces (most of a hair scene's bytes)
+    /// are copied in parallel, each once. `Err(i)` (and nothing moved) if
+    /// `others[i]`'s curve segments would pass [`curve::MAX_SEGMENTS`].
+    pub fn append_all(
+        &mut self,
+        mut others: Vec<ShapeStorage>,
+    ) -> Result<Vec<StorageOffsets>, usize> {
+        let mut offsets = Vec::with_capacity(others.len());
+        let mut segment_offsets = Vec::with_capacity(others.len());
+        let mut next = (
+            self.triangle_meshes.len(),
+            self.bilinear_meshes.len(),
+            self.curve_segments.len(),
+            self.curve_pieces.len(),
+        );
+        for (i, other) in others.iter().enumerate() {
+            if next.2 + other.curve_segments.len() > curve::MAX_SEGMENTS {
+                return Err(i);
+            }
+            offsets.push(StorageOffsets {
+                triangle_meshes: next.0 as u32,
+                bilinear_meshes: next.1 as u32,
+                curve_pieces: next.3 as u32,
+            });
+            segment_offsets.push(next.2 as u32);
+            next.0 += other.triangle_meshes.len();
+            next.1 += other.bilinear_meshes.len();
+            next.2 += other.curve_segments.len();
+            next.3 += other.curve_pieces.len();
         }
-        for piece in &mut other.curve_pieces {
-            piece.shift_segment(segment_offset)?;
+        let first_piece = self.curve_pieces.len();
+        let starts: Vec<usize> = offsets
+            .iter()
+            .map(|o| o.curve_pieces as usize - first_piece)
+            .collect();
+        let pieces: Vec<curve::CurvePiece> = (0..next.3 - first_piece)
+            .into_par_iter()
+            .map(|k| {
+                // The storage holding new piece k (empty ones share a start).
+                let i = starts.partition_point(|&start| start <= k) - 1;
+                others[i].curve_pieces[k - starts[i]].with_segment_shifted(segment_offsets[i])
+            })
+            .collect();
+        if self.curve_pieces.is_empty() {
+            self.curve_pieces = pieces;
+        } else {
+            self.curve_pieces.extend(pieces);
         }
-        let offsets = StorageOffsets {
-            triangle_meshes: self.triangle_meshes.len() as u32,
-            bilinear_meshes: self.bilinear_meshes.len() as u32,
-            curve_pieces: self.curve_pieces.len() as u32,
-        };
-        self.triangle_meshes.append(&mut other.triangle_meshes);
-        self.bilinear_meshes.append(&mut other.bilinear_meshes);
-        self.curve_segments.append(&mut other.curve_segments);
-        self.curve_pieces.append(&mut other.curve_pieces);
-        Some(offsets)
+        for other in &mut others {
+            self.triangle_meshes.append(&mut other.triangle_meshes);
+            self.bilinear_meshes.append(&mut other.bilinear_meshes);
+            self.curve_segments.append(&mut other.curve_segments);
+        }
+        Ok(offsets)
     }
 
     /// Multiplies the widths of the curve segments `shapes` belong to by
