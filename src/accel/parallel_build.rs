@@ -36,9 +36,10 @@ pub fn build_cwbvh_in_parts(
     params: BvhBuildParams,
     min_parts_size: usize,
 ) -> CwBvh {
-    let mut build_time = std::time::Duration::ZERO;
+    // obvhs reports its core build time; unused here.
+    let whole = || build_cwbvh(aabbs, params, &mut std::time::Duration::default());
     if aabbs.len() < min_parts_size.max(GROUPS) {
-        return build_cwbvh(aabbs, params, &mut build_time);
+        return whole();
     }
     let centroids: Vec<Vec3A> = aabbs.par_iter().map(|b| b.center()).collect();
     let mut order: Vec<u32> = (0..aabbs.len() as u32).collect();
@@ -55,7 +56,7 @@ pub fn build_cwbvh_in_parts(
             part
         })
         .collect();
-    join_under_root(parts).unwrap_or_else(|| build_cwbvh(aabbs, params, &mut build_time))
+    join_under_root(parts).unwrap_or_else(whole)
 }
 
 /// Splits `indices` into `count` (a power of two) equal groups by halving
@@ -152,9 +153,12 @@ fn join_under_root(parts: Vec<CwBvh>) -> Option<CwBvh> {
         // Part node k ≥ 1 moves to rest_base + k − 1; its root to 1 + rank.
         let node_shift = rest_base as u32 - 1;
         let prim_shift = primitive_indices.len() as u32;
-        let relocate = |node: &CwBvhNode| shifted(node, node_shift, prim_shift);
         nodes[1 + rank] = shifted(&part.nodes[0], node_shift, prim_shift);
-        nodes.extend(part.nodes[1..].iter().map(relocate));
+        nodes.extend(
+            part.nodes[1..]
+                .iter()
+                .map(|node| shifted(node, node_shift, prim_shift)),
+        );
         primitive_indices.extend_from_slice(&part.primitive_indices);
         rest_base += part.nodes.len() - 1;
     }

@@ -3,7 +3,7 @@
 //! The built scene is immutable and shared by all render threads.
 
 use super::alpha;
-use super::description::{MaterialRef, SceneDescription, TextureValue};
+use super::description::{SceneDescription, TextureValue};
 use super::placed_shapes;
 use crate::accel::instance::{build_levels, InstanceAccel};
 use crate::accel::Bvh;
@@ -21,7 +21,6 @@ use crate::shapes::{Shape, ShapeStorage};
 use crate::spectrum::color_space::SpectrumKind;
 use crate::textures::{create_texture, FloatTexture, NamedTextures, SpectrumTexture};
 use glam::{IVec2, Vec3};
-use pbrt_parser::Location as FileLoc;
 use pbrt_parser::Warning;
 use rayon::prelude::*;
 use std::collections::HashMap;
@@ -530,21 +529,6 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
         alpha_textures,
         warnings,
     })
-}
-
-/// The index of a shape's material in [`BuiltScene::materials`].
-pub(super) fn material_index(
-    material: &MaterialRef,
-    named: &HashMap<&str, u32>,
-    loc: &FileLoc,
-) -> Result<u32> {
-    match material {
-        MaterialRef::Anonymous(i) => Ok(*i as u32),
-        MaterialRef::Named(name) => match named.get(name.as_str()) {
-            Some(&i) => Ok(i),
-            None => scene_error(format!("named material \"{name}\" is not defined"), loc),
-        },
-    }
 }
 
 /// How a ray's test of primitive `i` finds its curve piece. A BVH leaf's

@@ -7,15 +7,14 @@
 //! another took 140–200 ms of its build.
 
 use super::alpha::Alpha;
-use super::build::material_index;
-use super::description::{Entity, SceneDescription, Shape as ShapeEntity};
+use super::description::{Entity, MaterialRef, SceneDescription, Shape as ShapeEntity};
 use super::instancing::ShapePlacement;
 use crate::error::{scene_error, Error, Result};
 use crate::materials::Material;
 use crate::math::Transform;
 use crate::shapes::{create_shapes, Shape, ShapeStorage};
 use crate::textures::{FloatTexture, NamedTextures};
-use pbrt_parser::Warning;
+use pbrt_parser::{Location as FileLoc, Warning};
 use rayon::prelude::*;
 use std::collections::HashMap;
 use std::path::Path;
@@ -151,4 +150,19 @@ fn place<'s>(
         None => None,
     };
     Ok(placed)
+}
+
+/// The index of a shape's material in `BuiltScene::materials`.
+fn material_index(
+    material: &MaterialRef,
+    named: &HashMap<&str, u32>,
+    loc: &FileLoc,
+) -> Result<u32> {
+    match material {
+        MaterialRef::Anonymous(i) => Ok(*i as u32),
+        MaterialRef::Named(name) => match named.get(name.as_str()) {
+            Some(&i) => Ok(i),
+            None => scene_error(format!("named material \"{name}\" is not defined"), loc),
+        },
+    }
 }
