@@ -15,7 +15,7 @@ use obvhs::cwbvh::CwBvh;
 use obvhs::BvhBuildParams;
 use rayon::prelude::*;
 
-use super::parallel_build::build_cwbvh_in_parts;
+use super::parallel_build::{self, build_cwbvh_in_parts};
 
 /// Primitive count above which the BVH is built for build speed.
 const LARGE_BUILD: usize = 1 << 20;
@@ -75,7 +75,10 @@ impl Bvh {
         } else {
             BvhBuildParams::medium_build()
         };
-        let mut tree = build_cwbvh_in_parts(&aabbs, params, PARTS_BUILD);
+        let mut tree = build_cwbvh_in_parts(&aabbs, params, PARTS_BUILD, false);
+        if parallel_build::depth(&tree) > parallel_build::MAX_DEPTH {
+            tree = parallel_build::balanced(&aabbs, params);
+        }
         // Leaves index the caller's reordered array directly: slot i is
         // the caller's primitive `first + i` (no index array to read per
         // primitive).
@@ -229,6 +232,32 @@ mod tests {
         }
         let t = (-b - disc.sqrt()) / a;
         (t > 0.0 && t < t_max).then_some(t)
+    }
+
+    /// Thousands of primitives in one place make obvhs's tree deeper than
+    /// its traversal stack is long (a ray that branches at every level
+    /// would skip subtrees): the build balances such a tree, and a ray
+    /// still reaches every primitive.
+    #[test]
+    fn coincident_primitives_are_all_reached() {
+        let bounds = vec![
+            Bounds3 {
+                min: Vec3::ZERO,
+                max: Vec3::ONE,
+            };
+            3000
+        ];
+        let (bvh, _) = Bvh::build(&bounds);
+        let tree = bvh.tree.as_ref().unwrap();
+        assert!(parallel_build::depth(tree) <= parallel_build::MAX_DEPTH);
+        let ray = Ray::new(Vec3::new(0.5, 0.5, -1.0), Vec3::Z, 0.0);
+        let mut reached = vec![false; bounds.len()];
+        let got = bvh.closest_hit(&ray, f32::INFINITY, |i, _| {
+            reached[i] = true;
+            None
+        });
+        assert!(got.is_none());
+        assert_eq!(reached.iter().filter(|&&r| r).count(), bounds.len());
     }
 
     #[test]

@@ -29,12 +29,14 @@ fn inner_child_meta(slot: usize) -> u8 {
 }
 
 /// Builds over `aabbs` as obvhs's `build_cwbvh` does, in eight parts when
-/// there are at least `min_parts_size` primitives (else in one). The
-/// result's `primitive_indices` refer to `aabbs` as obvhs's do.
+/// there are at least `min_parts_size` primitives (else in one), each part
+/// itself in parts if `recurse`. The result's `primitive_indices` refer to
+/// `aabbs` as obvhs's do.
 pub fn build_cwbvh_in_parts(
     aabbs: &[Aabb],
     params: BvhBuildParams,
     min_parts_size: usize,
+    recurse: bool,
 ) -> CwBvh {
     // obvhs reports its core build time; unused here.
     let whole = || build_cwbvh(aabbs, params, &mut std::time::Duration::default());
@@ -49,7 +51,11 @@ pub fn build_cwbvh_in_parts(
         .par_iter()
         .map(|group| {
             let boxes: Vec<Aabb> = group.iter().map(|&i| aabbs[i as usize]).collect();
-            let mut part = build_cwbvh(&boxes, params, &mut std::time::Duration::default());
+            let mut part = if recurse {
+                build_cwbvh_in_parts(&boxes, params, min_parts_size, true)
+            } else {
+                build_cwbvh(&boxes, params, &mut std::time::Duration::default())
+            };
             for index in &mut part.primitive_indices {
                 *index = group[*index as usize];
             }
@@ -181,6 +187,42 @@ fn join_under_root(parts: Vec<CwBvh>) -> Option<CwBvh> {
     })
 }
 
+/// The deepest a ray's traversal goes: obvhs's traversal stack holds 32
+/// entries and, when full, overwrites its last one (a subtree would be
+/// skipped), so a tree must be shallower than that.
+pub const MAX_DEPTH: u32 = 31;
+
+/// Primitives per part of [`balanced`]: obvhs's tree over this many
+/// primitives stays shallow whatever their boxes.
+const BALANCED_PART: usize = 24;
+
+/// A tree whose depth is bounded whatever the boxes: median splits down to
+/// parts of at most [`BALANCED_PART`] primitives. For boxes that obvhs's
+/// clustering cannot separate (thousands in one place), where its own tree
+/// grows deeper than [`MAX_DEPTH`].
+pub fn balanced(aabbs: &[Aabb], params: BvhBuildParams) -> CwBvh {
+    build_cwbvh_in_parts(aabbs, params, BALANCED_PART * GROUPS, true)
+}
+
+/// The depth of `tree` (1 for a root alone; 0 when empty).
+pub fn depth(tree: &CwBvh) -> u32 {
+    if tree.nodes.is_empty() {
+        return 0;
+    }
+    let mut deepest = 0;
+    let mut stack = vec![(0usize, 1u32)];
+    while let Some((index, depth)) = stack.pop() {
+        deepest = deepest.max(depth);
+        let Some(node) = tree.nodes.get(index) else {
+            continue;
+        };
+        for k in 0..node.imask.count_ones() as usize {
+            stack.push((node.child_base_idx as usize + k, depth + 1));
+        }
+    }
+    deepest
+}
+
 /// `node` with its children and primitives moved by the given offsets.
 fn shifted(node: &CwBvhNode, node_shift: u32, prim_shift: u32) -> CwBvhNode {
     CwBvhNode {
@@ -210,7 +252,7 @@ mod tests {
     #[test]
     fn eight_parts_make_a_valid_tree_over_every_primitive() {
         let boxes = random_boxes(5000, 3);
-        let tree = build_cwbvh_in_parts(&boxes, BvhBuildParams::medium_build(), 1000);
+        let tree = build_cwbvh_in_parts(&boxes, BvhBuildParams::medium_build(), 1000, false);
         // Joined, not the one-piece fallback: the root's children are the
         // parts' roots.
         assert_eq!(tree.nodes[0].imask, 0xff);
@@ -219,5 +261,21 @@ mod tests {
         assert_eq!(seen, (0..boxes.len() as u32).collect::<Vec<_>>());
         let result = tree.validate(&boxes, false);
         assert_eq!(result.discovered_primitives.len(), boxes.len());
+    }
+
+    /// Boxes all in one place: obvhs's own tree is deeper than its
+    /// traversal stack; the balanced one is not, and holds every primitive.
+    #[test]
+    fn coincident_boxes_get_a_balanced_tree() {
+        let boxes = vec![Aabb::new(Vec3A::ZERO, Vec3A::ONE); 3000];
+        let params = BvhBuildParams::medium_build();
+        let whole = build_cwbvh_in_parts(&boxes, params, usize::MAX, false);
+        assert!(depth(&whole) > MAX_DEPTH, "{}", depth(&whole));
+        let tree = balanced(&boxes, params);
+        // Two levels of parts (375, then 47 boxes) over obvhs trees of 47.
+        assert!(depth(&tree) <= 12, "{}", depth(&tree));
+        let result = tree.validate(&boxes, false);
+        assert_eq!(result.discovered_primitives.len(), boxes.len());
+        assert_eq!(result.max_depth + 1, depth(&tree));
     }
 }
