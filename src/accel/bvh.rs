@@ -176,22 +176,18 @@ impl Bvh {
         let traverse_ray = Self::obvhs_ray(ray, t_max);
         let mut state = tree.new_traversal(traverse_ray.direction);
         let mut node;
-        let mut hit = false;
-        'traversal: {
-            obvhs::traverse!(
-                tree,
-                node,
-                state,
-                self.test_node(node, &traverse_ray, state.oct_inv4, &prefetch),
-                {
-                    if hits(self.first + state.primitive_id as usize, t_max) {
-                        hit = true;
-                        break 'traversal;
-                    }
+        obvhs::traverse!(
+            tree,
+            node,
+            state,
+            self.test_node(node, &traverse_ray, state.oct_inv4, &prefetch),
+            {
+                if hits(self.first + state.primitive_id as usize, t_max) {
+                    return true;
                 }
-            );
-        }
-        hit
+            }
+        );
+        false
     }
 
     /// The children of `node` the ray enters (obvhs's hit mask: inner

@@ -121,12 +121,26 @@ impl Tables<'_> {
         self.steps.len() - 1
     }
 
+    /// The guide bucket `u` falls in (rounding of u · n may put it one
+    /// off; [`Tables::locate`] allows for that).
+    #[inline]
+    fn bucket(&self, u: f32) -> usize {
+        let n = self.size();
+        ((u * n as f32) as usize).min(n - 1)
+    }
+
+    /// Starts loading the guide entry [`Tables::locate`] reads first.
+    #[inline]
+    fn prefetch(&self, u: f32) {
+        crate::accel::prefetch(&self.guide[self.bucket(u)]);
+    }
+
     /// The interval `u` falls in (the last i ≤ n − 1 with cdf[i] ≤ u, as
     /// [`find_interval`] finds it), its step and the next step's cdf.
     #[inline]
     fn locate(&self, u: f32) -> (usize, Step, f32) {
         let n = self.size();
-        let k = ((u * n as f32) as usize).min(n - 1);
+        let k = self.bucket(u);
         let cut = self.guide[k];
         // cdf[i] ≤ u < cdf[i + 1] makes i the last interval with cdf ≤ u,
         // whichever bucket rounding put u in.
@@ -351,11 +365,7 @@ impl PiecewiseConstant2D {
     #[inline]
     pub fn prefetch(&self, u: Vec2) {
         let (_, _, row) = self.marginal.sample(u.y);
-        let n = self.nu;
-        let k = ((u.x * n as f32) as usize).min(n - 1);
-        if let Some(cut) = self.guides.get(row * (n + 1) + k) {
-            crate::accel::prefetch(cut);
-        }
+        self.row(row).prefetch(u.x);
     }
 
     /// The density of sampling `p` (a point of the domain).

@@ -74,7 +74,7 @@ pub struct ShapeStorage {
 }
 
 /// Where one storage's items start in another it was appended to
-/// ([`ShapeStorage::append`]).
+/// ([`ShapeStorage::append_all`]).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct StorageOffsets {
     triangle_meshes: u32,
@@ -94,33 +94,29 @@ impl ShapeStorage {
     ) -> Result<Vec<StorageOffsets>, usize> {
         let mut offsets = Vec::with_capacity(others.len());
         let mut segment_offsets = Vec::with_capacity(others.len());
-        let mut next = (
-            self.triangle_meshes.len(),
-            self.bilinear_meshes.len(),
-            self.curve_segments.len(),
-            self.curve_pieces.len(),
-        );
+        let mut next = StorageOffsets {
+            triangle_meshes: self.triangle_meshes.len() as u32,
+            bilinear_meshes: self.bilinear_meshes.len() as u32,
+            curve_pieces: self.curve_pieces.len() as u32,
+        };
+        let mut next_segment = self.curve_segments.len();
         for (i, other) in others.iter().enumerate() {
-            if next.2 + other.curve_segments.len() > curve::MAX_SEGMENTS {
+            if next_segment + other.curve_segments.len() > curve::MAX_SEGMENTS {
                 return Err(i);
             }
-            offsets.push(StorageOffsets {
-                triangle_meshes: next.0 as u32,
-                bilinear_meshes: next.1 as u32,
-                curve_pieces: next.3 as u32,
-            });
-            segment_offsets.push(next.2 as u32);
-            next.0 += other.triangle_meshes.len();
-            next.1 += other.bilinear_meshes.len();
-            next.2 += other.curve_segments.len();
-            next.3 += other.curve_pieces.len();
+            offsets.push(next);
+            segment_offsets.push(next_segment as u32);
+            next.triangle_meshes += other.triangle_meshes.len() as u32;
+            next.bilinear_meshes += other.bilinear_meshes.len() as u32;
+            next.curve_pieces += other.curve_pieces.len() as u32;
+            next_segment += other.curve_segments.len();
         }
         let first_piece = self.curve_pieces.len();
         let starts: Vec<usize> = offsets
             .iter()
             .map(|o| o.curve_pieces as usize - first_piece)
             .collect();
-        let pieces: Vec<curve::CurvePiece> = (0..next.3 - first_piece)
+        let pieces: Vec<curve::CurvePiece> = (0..next.curve_pieces as usize - first_piece)
             .into_par_iter()
             .map(|k| {
                 // The storage holding new piece k (empty ones share a start).
