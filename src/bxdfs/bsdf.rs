@@ -67,6 +67,22 @@ impl BSDF {
         self.bxdf.f(wo, wi, mode)
     }
 
+    /// [`Self::f`], and [`Self::pdf`] over all lobes when the BxDF gives it
+    /// with the value ([`BxDF::f_and_pdf`]).
+    pub fn f_and_pdf(
+        &self,
+        wo_render: Vec3,
+        wi_render: Vec3,
+        mode: TransportMode,
+    ) -> (SampledSpectrum, Option<f32>) {
+        let wi = self.render_to_local(wi_render);
+        let wo = self.render_to_local(wo_render);
+        if wo.z == 0.0 {
+            return (SampledSpectrum::ZERO, Some(0.0));
+        }
+        self.bxdf.f_and_pdf(wo, wi, mode)
+    }
+
     /// Samples ωi in render space. Unusable samples (zero value or density,
     /// or tangent to the surface) are dropped here, so callers can trust
     /// any sample they get.

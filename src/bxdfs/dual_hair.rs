@@ -25,8 +25,8 @@
 //! frame that does not turn with the view ([`axis_from_reference`]).
 
 use super::hair::{
-    choose_lobe, sample_longitudinal, sample_trimmed_logistic, trimmed_logistic, wrap_angle,
-    HairBxDF, HairSample, P_MAX,
+    choose_lobe, divide_by_cos, sample_longitudinal, sample_trimmed_logistic, trimmed_logistic,
+    wrap_angle, HairBxDF, HairSample, P_MAX,
 };
 use super::hair_diffraction::{
     eq36_scale, fitted_scale, sample_spectral, spectral_density, spectral_pdf, Diffraction,
@@ -270,28 +270,43 @@ impl DualHairBxDF {
         y.map(|v| v / sum)
     }
 
-    /// Σ_p w_p M_p N_p (+ the residual's w_3 M_3 / 2π), with per-lobe
-    /// weights `w` (A_p for the value, lobe probabilities for the pdf).
-    #[allow(clippy::too_many_arguments)]
-    fn lobe_sum<T: Copy + std::ops::Mul<f32, Output = T> + std::ops::AddAssign>(
+    /// The value at ωi (θ_i by its sine and cosine, φ_i its azimuth; before
+    /// the division by |cos θ_i|) and the density of sampling it: in the
+    /// fibre Σ_p A_p M_p N_p and Σ_p P(p) M_p N_p (+ the residual's
+    /// M_3 / 2π terms), sharing each lobe's M_p and N_p; in the ring
+    /// M_diff N_diff and M_diff times N_diff's sampling density.
+    fn lobes_at(
         &self,
         l: &Local,
-        phi: &[f32; LOBES],
-        w: &[T; LOBES + 1],
-        zero: T,
         sin_theta_i: f32,
         cos_theta_i: f32,
         phi_i: f32,
-    ) -> T {
-        let mut sum = zero;
-        for p in 0..LOBES {
-            let (sin_o, cos_o) = l.tilted[p];
-            let m = self.base.m(p).eval(cos_theta_i, cos_o, sin_theta_i, sin_o);
-            let n = self.base.azimuthal_logistic(wrap_angle(phi_i - phi[p]));
-            sum += w[p] * (m * n);
+    ) -> (SampledSpectrum, f32) {
+        match &l.hit {
+            Hit::Fibre { phi, a, pdf } => {
+                let mut f = SampledSpectrum::ZERO;
+                let mut density = 0.0;
+                for p in 0..LOBES {
+                    let (sin_o, cos_o) = l.tilted[p];
+                    let m = self.base.m(p).eval(cos_theta_i, cos_o, sin_theta_i, sin_o);
+                    let n = self.base.azimuthal_logistic(wrap_angle(phi_i - phi[p]));
+                    f += a[p] * (m * n);
+                    density += pdf[p] * (m * n);
+                }
+                let m = self.m_residual(l, sin_theta_i, cos_theta_i) / (2.0 * PI);
+                f += a[LOBES] * m;
+                density += pdf[LOBES] * m;
+                (f, density)
+            }
+            Hit::Ring { d_um, phi_o } => {
+                let delta = wrap_angle(phi_i - phi_o - PI);
+                let m = self.m_residual(l, sin_theta_i, cos_theta_i);
+                (
+                    self.n_diff(*d_um, delta) * m,
+                    self.n_diff_pdf(*d_um, delta) * m,
+                )
+            }
         }
-        sum += w[LOBES] * (self.m_residual(l, sin_theta_i, cos_theta_i) / (2.0 * PI));
-        sum
     }
 
     /// f(ωo, ωi), divided by |cos θ_i| as pbrt's hair BSDF is.
@@ -299,42 +314,20 @@ impl DualHairBxDF {
         self.value_local(&self.local_for(wo), wi)
     }
 
-    fn value_local(&self, l: &Local, wi: Vec3) -> SampledSpectrum {
-        let sin_theta_i = wi.x.clamp(-1.0, 1.0);
-        let cos_theta_i = safe_sqrt(1.0 - sqr(sin_theta_i));
-        let phi_i = fast_atan2(wi.z, wi.y);
-        let mut f = match &l.hit {
-            Hit::Fibre { phi, a, .. } => self.lobe_sum(
-                l,
-                phi,
-                a,
-                SampledSpectrum::ZERO,
-                sin_theta_i,
-                cos_theta_i,
-                phi_i,
-            ),
-            Hit::Ring { d_um, phi_o } => {
-                let delta = wrap_angle(phi_i - phi_o - PI);
-                self.n_diff(*d_um, delta) * self.m_residual(l, sin_theta_i, cos_theta_i)
-            }
-        };
-        let cos_wi = wi.z.abs();
-        if cos_wi > 0.0 {
-            f /= cos_wi;
-        }
-        f
+    /// f(ωo, ωi) and the density of sampling ωi, at once.
+    pub fn value_and_density(&self, wo: Vec3, wi: Vec3) -> (SampledSpectrum, f32) {
+        self.value_and_density_local(&self.local_for(wo), wi)
     }
 
-    fn pdf_local(&self, l: &Local, sin_theta_i: f32, cos_theta_i: f32, phi_i: f32) -> f32 {
-        match &l.hit {
-            Hit::Fibre { phi, pdf, .. } => {
-                self.lobe_sum(l, phi, pdf, 0.0, sin_theta_i, cos_theta_i, phi_i)
-            }
-            Hit::Ring { d_um, phi_o } => {
-                let delta = wrap_angle(phi_i - phi_o - PI);
-                self.n_diff_pdf(*d_um, delta) * self.m_residual(l, sin_theta_i, cos_theta_i)
-            }
-        }
+    fn value_local(&self, l: &Local, wi: Vec3) -> SampledSpectrum {
+        self.value_and_density_local(l, wi).0
+    }
+
+    fn value_and_density_local(&self, l: &Local, wi: Vec3) -> (SampledSpectrum, f32) {
+        let sin_theta_i = wi.x.clamp(-1.0, 1.0);
+        let cos_theta_i = safe_sqrt(1.0 - sqr(sin_theta_i));
+        let (f, pdf) = self.lobes_at(l, sin_theta_i, cos_theta_i, fast_atan2(wi.z, wi.y));
+        (divide_by_cos(f, wi), pdf)
     }
 
     /// Samples ωi: in the fibre a lobe by A_p, θ_i from M_p and Δφ from the
@@ -384,12 +377,12 @@ impl DualHairBxDF {
             cos_theta_i * phi_i.cos(),
             cos_theta_i * phi_i.sin(),
         );
-        let pdf = self.pdf_local(&l, sin_theta_i, cos_theta_i, phi_i);
+        let (f, pdf) = self.lobes_at(&l, sin_theta_i, cos_theta_i, phi_i);
         if pdf.is_nan() || pdf <= 0.0 || pdf.is_infinite() {
             return None;
         }
         Some(HairSample {
-            f: self.value_local(&l, wi),
+            f: divide_by_cos(f, wi),
             wi,
             pdf,
         })
@@ -397,10 +390,7 @@ impl DualHairBxDF {
 
     /// Solid-angle density with which [`Self::sample`] picks ωi.
     pub fn density(&self, wo: Vec3, wi: Vec3) -> f32 {
-        let l = self.local_for(wo);
-        let sin_theta_i = wi.x.clamp(-1.0, 1.0);
-        let cos_theta_i = safe_sqrt(1.0 - sqr(sin_theta_i));
-        self.pdf_local(&l, sin_theta_i, cos_theta_i, fast_atan2(wi.z, wi.y))
+        self.value_and_density(wo, wi).1
     }
 }
 
@@ -413,6 +403,9 @@ impl super::hair::HairScattering for DualHairBxDF {
     }
     fn density(&self, wo: Vec3, wi: Vec3) -> f32 {
         DualHairBxDF::density(self, wo, wi)
+    }
+    fn value_and_density(&self, wo: Vec3, wi: Vec3) -> (SampledSpectrum, f32) {
+        DualHairBxDF::value_and_density(self, wo, wi)
     }
 }
 

@@ -220,6 +220,18 @@ pub(crate) fn wrap_angle(mut x: f32) -> f32 {
     x
 }
 
+/// A hair BSDF's value divided by |cos θ_i| (ωi's z in the hair frame),
+/// as pbrt-v4's is, so that the integrator's cosine cancels.
+#[inline]
+pub(crate) fn divide_by_cos(f: SampledSpectrum, wi: Vec3) -> SampledSpectrum {
+    let cos_wi = wi.z.abs();
+    if cos_wi > 0.0 {
+        f / cos_wi
+    } else {
+        f
+    }
+}
+
 /// Picks lobe p with probability `pdf[p]` and remaps `uc` to [0, 1)
 /// within its interval (so it can drive the lobe's azimuth).
 pub(crate) fn choose_lobe(pdf: &[f32; P_MAX + 1], uc: f32) -> (usize, f32) {
@@ -388,27 +400,43 @@ impl HairBxDF {
     }
 
     fn value_at(&self, o: &Outgoing, wi: Vec3) -> SampledSpectrum {
+        self.value_and_density_at(o, wi).0
+    }
+
+    fn value_and_density_at(&self, o: &Outgoing, wi: Vec3) -> (SampledSpectrum, f32) {
         let sin_theta_i = wi.x;
         let cos_theta_i = safe_sqrt(1.0 - sqr(sin_theta_i));
         let phi_i = wi.z.atan2(wi.y);
-        let dphi = phi_i - o.phi_o;
+        let (f, pdf) = self.lobes_at(o, sin_theta_i, cos_theta_i, phi_i - o.phi_o);
+        (divide_by_cos(f, wi), pdf)
+    }
+
+    /// The lobes at ωi (θ_i by its sine and cosine, Δφ = φ_i − φ_o): the
+    /// value Σ_p A_p M_p N_p (before the division by |cos θ_i|) and the
+    /// density Σ_p (A_p / Σ A) M_p N_p, sharing each lobe's M_p and N_p (a
+    /// sample needs both).
+    fn lobes_at(
+        &self,
+        o: &Outgoing,
+        sin_theta_i: f32,
+        cos_theta_i: f32,
+        dphi: f32,
+    ) -> (SampledSpectrum, f32) {
         let mut fsum = SampledSpectrum::ZERO;
-        for (p, a_p) in o.a.iter().enumerate().take(P_MAX) {
+        let mut pdf = 0.0;
+        for p in 0..P_MAX {
             let (sin_o, cos_o) = o.tilted[p];
-            fsum += *a_p
-                * (self.m(p).eval(cos_theta_i, cos_o, sin_theta_i, sin_o)
-                    * self.np(dphi, p, o.gamma_o, o.gamma_t));
+            let m = self.m(p).eval(cos_theta_i, cos_o, sin_theta_i, sin_o);
+            let n = self.np(dphi, p, o.gamma_o, o.gamma_t);
+            fsum += o.a[p] * (m * n);
+            pdf += m * o.ap_pdf[p] * n;
         }
-        fsum += o.a[P_MAX]
-            * (self
-                .m(P_MAX)
-                .eval(cos_theta_i, o.cos_theta_o, sin_theta_i, o.sin_theta_o)
-                / (2.0 * PI));
-        let cos_wi = wi.z.abs();
-        if cos_wi > 0.0 {
-            fsum /= cos_wi;
-        }
-        fsum
+        let m = self
+            .m(P_MAX)
+            .eval(cos_theta_i, o.cos_theta_o, sin_theta_i, o.sin_theta_o);
+        fsum += o.a[P_MAX] * (m / (2.0 * PI));
+        pdf += m * o.ap_pdf[P_MAX] / (2.0 * PI);
+        (fsum, pdf)
     }
 
     /// Samples ωi: a lobe by its attenuation, θ_i from M_p, Δφ from N_p.
@@ -433,31 +461,15 @@ impl HairBxDF {
             cos_theta_i * phi_i.cos(),
             cos_theta_i * phi_i.sin(),
         );
-        let pdf = self.pdf_from(o, sin_theta_i, cos_theta_i, dphi);
+        let (f, pdf) = self.lobes_at(o, sin_theta_i, cos_theta_i, dphi);
         if !(pdf > 0.0) || !pdf.is_finite() {
             return None;
         }
         Some(HairSample {
-            f: self.value_at(o, wi),
+            f: divide_by_cos(f, wi),
             wi,
             pdf,
         })
-    }
-
-    fn pdf_from(&self, o: &Outgoing, sin_theta_i: f32, cos_theta_i: f32, dphi: f32) -> f32 {
-        let mut pdf = 0.0;
-        for (p, &a) in o.ap_pdf.iter().enumerate().take(P_MAX) {
-            let (sin_o, cos_o) = o.tilted[p];
-            pdf += self.m(p).eval(cos_theta_i, cos_o, sin_theta_i, sin_o)
-                * a
-                * self.np(dphi, p, o.gamma_o, o.gamma_t);
-        }
-        pdf += self
-            .m(P_MAX)
-            .eval(cos_theta_i, o.cos_theta_o, sin_theta_i, o.sin_theta_o)
-            * o.ap_pdf[P_MAX]
-            / (2.0 * PI);
-        pdf
     }
 
     /// Solid-angle density with which [`Self::sample`] picks ωi.
@@ -466,10 +478,7 @@ impl HairBxDF {
     }
 
     fn density_at(&self, o: &Outgoing, wi: Vec3) -> f32 {
-        let sin_theta_i = wi.x;
-        let cos_theta_i = safe_sqrt(1.0 - sqr(sin_theta_i));
-        let phi_i = wi.z.atan2(wi.y);
-        self.pdf_from(o, sin_theta_i, cos_theta_i, phi_i - o.phi_o)
+        self.value_and_density_at(o, wi).1
     }
 
     /// σ_a from eumelanin and pheomelanin concentrations, in linear sRGB
@@ -785,6 +794,9 @@ pub trait HairScattering {
     fn value(&self, wo: Vec3, wi: Vec3) -> SampledSpectrum;
     fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<HairSample>;
     fn density(&self, wo: Vec3, wi: Vec3) -> f32;
+    /// [`Self::value`] and [`Self::density`] at once (bit for bit the
+    /// same; they share their lobes' terms).
+    fn value_and_density(&self, wo: Vec3, wi: Vec3) -> (SampledSpectrum, f32);
 
     fn flags(&self) -> super::BxDFFlags {
         super::BxDFFlags::GLOSSY_REFLECTION
@@ -868,5 +880,8 @@ impl HairScattering for CircularHairBxDF {
     }
     fn density(&self, wo: Vec3, wi: Vec3) -> f32 {
         self.bxdf.density_at(&self.outgoing_for(wo), wi)
+    }
+    fn value_and_density(&self, wo: Vec3, wi: Vec3) -> (SampledSpectrum, f32) {
+        self.bxdf.value_and_density_at(&self.outgoing_for(wo), wi)
     }
 }

@@ -86,6 +86,28 @@ impl BxDF {
         dispatch!(self, b => b.f(wo, wi, mode))
     }
 
+    /// f, and with it the pdf over all lobes where that costs next to
+    /// nothing more (hair: the value and the density share each lobe's
+    /// terms); `None` asks the caller to call [`Self::pdf`] if it needs it.
+    pub fn f_and_pdf(
+        &self,
+        wo: Vec3,
+        wi: Vec3,
+        mode: TransportMode,
+    ) -> (SampledSpectrum, Option<f32>) {
+        match self {
+            BxDF::Hair(b) => {
+                let (f, pdf) = b.value_and_density(wo, wi);
+                (f, Some(pdf))
+            }
+            BxDF::DualHair(b) => {
+                let (f, pdf) = b.value_and_density(wo, wi);
+                (f, Some(pdf))
+            }
+            _ => (self.f(wo, wi, mode), None),
+        }
+    }
+
     /// Samples ωi given ωo, a 1D sample `uc` (lobe choice) and a 2D sample
     /// `u` (direction), restricted to the requested hemispheres.
     pub fn sample_f(

@@ -217,7 +217,8 @@ fn sample_ld(
         return SampledSpectrum::ZERO;
     }
     ls.l.prefetch();
-    let f = bsdf.f(si.wo, ls.wi, TransportMode::Radiance) * ls.wi.dot(si.shading.n).abs();
+    let (f, p_b) = bsdf.f_and_pdf(si.wo, ls.wi, TransportMode::Radiance);
+    let f = f * ls.wi.dot(si.shading.n).abs();
     if f.is_zero() || !scene.unoccluded(si, ls.p_light, ls.p_light_error, ls.n_light) {
         return SampledSpectrum::ZERO;
     }
@@ -232,11 +233,13 @@ fn sample_ld(
     ) {
         return l * f / p_l;
     }
-    let p_b = bsdf.pdf(
-        si.wo,
-        ls.wi,
-        TransportMode::Radiance,
-        BxDFReflTransFlags::All,
-    );
+    let p_b = p_b.unwrap_or_else(|| {
+        bsdf.pdf(
+            si.wo,
+            ls.wi,
+            TransportMode::Radiance,
+            BxDFReflTransFlags::All,
+        )
+    });
     l * f * (mis_weight(volpath, p_l, p_b) / p_l)
 }
