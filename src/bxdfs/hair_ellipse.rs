@@ -472,6 +472,8 @@ pub struct Attenuation {
     /// The last transmittance computed, and its path length (the tail
     /// starts at the last traced exit, most often TRT's).
     last: (SampledSpectrum, f32),
+    /// The one computed before it.
+    previous: (SampledSpectrum, f32),
     /// The path length at the last exit added.
     end_length: f32,
 }
@@ -483,6 +485,7 @@ impl Attenuation {
             a: [SampledSpectrum::ZERO; LOBES + 1],
             residual,
             last: (SampledSpectrum::ONE, 0.0),
+            previous: (SampledSpectrum::ONE, 0.0),
             end_length: 0.0,
         }
     }
@@ -507,6 +510,7 @@ impl Attenuation {
         if !(lobe || self.residual && exit.escape > 0.0) {
             return;
         }
+        self.previous = self.last;
         self.last = (self.transmit(exit.length), exit.length);
         let out = self.last.0 * exit.escape;
         if lobe {
@@ -524,7 +528,17 @@ impl Attenuation {
         // Σ_j (1 − ē)^{j−1} ē τ^j = ē τ / (1 − (1 − ē) τ), τ = e^{−k ℓ̄}
         // (pbrt's geometric residual when every chord is alike).
         if self.residual && end.remaining > 0.0 {
-            let tau = self.transmit(end.tail_chord);
+            // When the tail's one chord is the last traced (TT and TRT,
+            // then out: the common case), τ is the ratio of the last two
+            // transmittances, which saves an exponential.
+            let ratio_usable = end.count == TRACED_EXITS
+                && self.last.1 == self.end_length
+                && self.previous.0.min_component() > 1e-30;
+            let tau = if ratio_usable {
+                self.last.0 / self.previous.0
+            } else {
+                self.transmit(end.tail_chord)
+            };
             let e = end.tail_escape.max(1e-4);
             let tail = (tau * e).safe_div(SampledSpectrum::ONE - tau * (1.0 - e));
             let at_end = if self.last.1 == self.end_length {
