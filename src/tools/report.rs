@@ -521,6 +521,92 @@ fn dual_model_section(args: &ReportArgs, threads: usize) -> Result<String, Error
             same_geometry.map_or("—".to_string(), |j| format!("{:.3}×", ratio(i, j)))
         );
     }
+    text.push_str(&full_head_overhead(args, threads)?);
+    Ok(text)
+}
+
+/// Samples per pixel of the full-head rows of the dual-model table.
+const FULL_HEAD_SPP: u32 = 16;
+
+/// The elliptical model's overhead on a full head of hair (the shared
+/// `hair-eumel-2-256`, ~300k curves), where tracing rays takes a larger share
+/// of a render than on the few strands of the table above: the paper's
+/// Table 2 times full hair models. Rounds interleaved as above; empty when
+/// the shared scenes are absent.
+fn full_head_overhead(args: &ReportArgs, threads: usize) -> Result<String, Error> {
+    const NAME: &str = "hair-eumel-2-256";
+    const MATERIAL: &str = "Material \"hair\"  \"float beta_m\" 0.25 \"float eumelanin\" 2";
+    let scene = args
+        .shared
+        .join("scenes/derived")
+        .join(format!("{NAME}.pbrt"));
+    let Ok(scene_text) = std::fs::read_to_string(&scene) else {
+        return Ok(String::new());
+    };
+    if !scene_text.contains(MATERIAL) {
+        return Err(Error::Usage(format!(
+            "{}: its material line changed; update the report",
+            scene.display()
+        )));
+    }
+    let folder =
+        std::path::absolute(scene.parent().unwrap_or(Path::new("."))).map_err(io_error(&scene))?;
+    // The variants live in the work folder: the scene's relative paths
+    // (its geometry and environment map) made absolute.
+    let absolute = scene_text.replace("\"../", &format!("\"{}/../", folder.display()));
+    let work = args.work.join("dual");
+    let variants = [
+        ("circular (pbrt-v4's hair)", String::new()),
+        (
+            "elliptical a = 30, b = 20 µm, no diffraction",
+            "\"float ellipse_a\" 30 \"float ellipse_b\" 20".to_string(),
+        ),
+    ];
+    let mut scenes = Vec::new();
+    for (i, (_, extra)) in variants.iter().enumerate() {
+        let path = work.join(format!("{NAME}-variant-{i}.pbrt"));
+        let body = absolute.replace(MATERIAL, &format!("{MATERIAL} {extra}"));
+        std::fs::write(&path, body).map_err(io_error(&path))?;
+        scenes.push(path);
+    }
+    let rounds = args.dual_repeat.max(1);
+    let mut seconds: [Vec<f64>; 2] = [Vec::new(), Vec::new()];
+    for k in 0..rounds {
+        for (i, path) in scenes.iter().enumerate() {
+            let overrides = RenderOverrides {
+                spp: Some(FULL_HEAD_SPP),
+                seed: Some(convergence::seed(k)),
+                outfile: Some(work.join(format!("{NAME}-variant-{i}-{k}.exr"))),
+                ..Default::default()
+            };
+            let (rendered, time, _) =
+                time_without_steal(|| render_file(path, &overrides, threads, false));
+            rendered?;
+            seconds[i].push(time);
+        }
+    }
+    let ratios: Vec<f64> = seconds[1]
+        .iter()
+        .zip(&seconds[0])
+        .map(|(a, b)| a / b.max(1e-9))
+        .collect();
+    let mut text = format!(
+        "\nOn a full head of hair (`{NAME}` of `../shared/scenes/derived/`, its material's ellipse varied, \
+         {FULL_HEAD_SPP} spp, median of {rounds} interleaved rounds, whole-render seconds):\n\n\
+         | material | seconds | vs circular |\n|---|---|---|\n"
+    );
+    for (i, (label, _)) in variants.iter().enumerate() {
+        let ratio = if i == 0 {
+            1.0
+        } else {
+            median(ratios.clone()).unwrap_or(0.0)
+        };
+        let _ = writeln!(
+            text,
+            "| {label} | {:.2} | {ratio:.3}× |",
+            median(seconds[i].clone()).unwrap_or(0.0)
+        );
+    }
     Ok(text)
 }
 
