@@ -36,6 +36,7 @@ use crate::math::fast_atan2::fast_atan2;
 use crate::math::{safe_sqrt, sqr};
 use crate::spectrum::{SampledSpectrum, N_SPECTRUM_SAMPLES};
 use glam::{DVec2, Vec2, Vec3};
+use std::borrow::Cow;
 use std::f32::consts::PI;
 
 /// The model's wavelength-independent parameters (per material).
@@ -149,11 +150,12 @@ impl DualHairBxDF {
         self
     }
 
-    /// The trace for `wo`: the stored one when `wo` is the BxDF's own.
-    fn local_for(&self, wo: Vec3) -> Local {
+    /// The trace for `wo`: the stored one (borrowed, not copied) when `wo`
+    /// is the BxDF's own.
+    fn local_for(&self, wo: Vec3) -> Cow<'_, Local> {
         match &self.outgoing {
-            Some((w, l)) if *w == wo => *l,
-            _ => self.local(wo),
+            Some((w, l)) if *w == wo => Cow::Borrowed(l),
+            _ => Cow::Owned(self.local(wo)),
         }
     }
 

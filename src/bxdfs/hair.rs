@@ -862,11 +862,12 @@ impl CircularHairBxDF {
         self
     }
 
-    /// The state for `wo`: the stored one when `wo` is the BxDF's own.
-    fn outgoing_for(&self, wo: Vec3) -> Outgoing {
+    /// The state for `wo`: the stored one (borrowed, not copied) when `wo`
+    /// is the BxDF's own.
+    fn outgoing_for(&self, wo: Vec3) -> std::borrow::Cow<'_, Outgoing> {
         match &self.outgoing {
-            Some((w, o)) if *w == wo => *o,
-            _ => self.bxdf.outgoing(wo),
+            Some((w, o)) if *w == wo => std::borrow::Cow::Borrowed(o),
+            _ => std::borrow::Cow::Owned(self.bxdf.outgoing(wo)),
         }
     }
 }
