@@ -4,14 +4,17 @@
 //! path vertex asks of it: make the BxDF for its ωo (each model computes
 //! its ωo state then: A_p and angles for the circular one, the
 //! cross-section trace for the dual), evaluate and weigh a light sample
-//! (f, pdf), sample the next direction.
+//! (value and density in one call, as the path integrator does), sample
+//! the next direction. "elliptical" is the fibre alone (d_diff = 0, Table
+//! 2's elliptical row); the other two add a diffracting layer
+//! (d_diff = 0.5).
 
 use criterion::{criterion_group, criterion_main, Criterion, Throughput};
 use glam::{Vec2, Vec3};
 use rpbrt::bxdfs::dual_hair::{DualHairBxDF, DualHairParams};
 use rpbrt::bxdfs::hair::{CircularHairBxDF, HairBxDF};
 use rpbrt::bxdfs::hair_diffraction::Diffraction;
-use rpbrt::bxdfs::hair_ellipse::{Ellipse, InternalFresnel, Variant};
+use rpbrt::bxdfs::hair_ellipse::{Ellipse, InternalFresnel, Optics, Variant};
 use rpbrt::bxdfs::{BxDF, BxDFReflTransFlags, TransportMode};
 use rpbrt::spectrum::SampledSpectrum;
 use std::hint::black_box;
@@ -55,7 +58,7 @@ fn make_for(kind: &str, h: f32, wo: Option<Vec3>) -> BxDF {
     let params = |diffraction| DualHairParams {
         ellipse: Ellipse::new(30.0, 20.0),
         mean_radius_um: 25.0,
-        d_diff: 0.5,
+        d_diff: if kind == "elliptical" { 0.0 } else { 0.5 },
         diffraction,
         variant: Variant::Exact,
         internal_fresnel: InternalFresnel::Pbrt,
@@ -70,10 +73,10 @@ fn make_for(kind: &str, h: f32, wo: Option<Vec3>) -> BxDF {
             })
         }
         _ => {
-            let diffraction = if kind == "elliptical logistic" {
-                Diffraction::Logistic
-            } else {
+            let diffraction = if kind == "elliptical spectral" {
                 Diffraction::Spectral
+            } else {
+                Diffraction::Logistic
             };
             let axis = glam::Vec2::from_angle(0.4);
             let dual = DualHairBxDF::new(base, params(diffraction), axis, lambda);
@@ -93,6 +96,7 @@ fn hair(c: &mut Criterion) {
     g.throughput(Throughput::Elements(N as u64));
     for kind in [
         "circular pbrt",
+        "elliptical",
         "elliptical logistic",
         "elliptical spectral",
     ] {
@@ -111,12 +115,11 @@ fn hair(c: &mut Criterion) {
                 }
             })
         });
-        g.bench_function(format!("{kind}/vertex: make + f + pdf + sample_f"), |b| {
+        g.bench_function(format!("{kind}/vertex: make + f_and_pdf + sample_f"), |b| {
             b.iter(|| {
                 for i in &inputs {
                     let x = make_for(kind, i.0, Some(i.1));
-                    black_box(x.f(i.1, i.2, mode));
-                    black_box(x.pdf(i.1, i.2, mode, all));
+                    black_box(x.f_and_pdf(i.1, i.2, mode));
                     black_box(x.sample_f(i.1, i.3, i.4, mode, all));
                 }
             })
@@ -129,6 +132,29 @@ fn hair(c: &mut Criterion) {
             })
         });
     }
+    // The dual model's own work at a vertex: the trace through the
+    // cross-section for ω_o (a = 30, b = 20 µm), as the BxDF asks for it.
+    let ellipse = Ellipse::new(30.0, 20.0);
+    let axis = glam::DVec2::from_angle(0.4);
+    g.bench_function("elliptical/trace", |b| {
+        b.iter(|| {
+            for i in &inputs {
+                let optics = Optics::new(1.55, i.1.x);
+                let toward = glam::DVec2::new(i.1.y as f64, i.1.z as f64).normalize_or(glam::DVec2::X);
+                black_box(ellipse.trace_into(
+                    toward,
+                    axis,
+                    i.0,
+                    &optics,
+                    Variant::Exact,
+                    InternalFresnel::Pbrt,
+                    |k, exit| {
+                        black_box((k, exit));
+                    },
+                ));
+            }
+        })
+    });
     g.finish();
 }
 
