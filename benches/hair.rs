@@ -140,7 +140,8 @@ fn hair(c: &mut Criterion) {
         b.iter(|| {
             for i in &inputs {
                 let optics = Optics::new(1.55, i.1.x);
-                let toward = glam::DVec2::new(i.1.y as f64, i.1.z as f64).normalize_or(glam::DVec2::X);
+                let toward =
+                    glam::DVec2::new(i.1.y as f64, i.1.z as f64).normalize_or(glam::DVec2::X);
                 black_box(ellipse.trace_into(
                     toward,
                     axis,
