@@ -216,6 +216,93 @@ struct SceneResult {
     /// Per rpbrt run (same order as `runs`): block bias against the
     /// reference, from the run's saved render.
     block_bias: Vec<Option<f64>>,
+    /// rpbrt at pbrt-v4's seed, per listed spp.
+    same_seed: Vec<SameSeed>,
+}
+
+/// The seed of pbrt-v4's N-spp renders in `../shared/refs/`.
+const PBRT_SEED: i32 = 2;
+
+/// rpbrt rendered at pbrt-v4's seed and spp: the README's figures, and how
+/// far the image is from pbrt-v4's render of the same samples.
+struct SameSeed {
+    spp: u32,
+    mrse: f64,
+    block_bias: f64,
+    /// MRSE against pbrt-v4's own render at that spp.
+    from_pbrt: f64,
+    /// pbrt-v4's render's MRSE and block bias against the reference.
+    pbrt_mrse: f64,
+    pbrt_block_bias: f64,
+    /// Whole-render seconds, steal removed (kept beside the image for
+    /// `--reuse`).
+    seconds: Option<f64>,
+}
+
+/// Renders `scene` at pbrt-v4's seed at each listed spp (or, with
+/// `--reuse`, reads the previous run's render) and compares it with the
+/// reference and with pbrt-v4's render. Rows whose images are missing are
+/// left out.
+fn same_seed_rows(
+    args: &ReportArgs,
+    name: &str,
+    scene: &Path,
+    spp: &[u32],
+    work: &Path,
+    threads: usize,
+) -> Vec<SameSeed> {
+    use crate::image::Image;
+    use crate::tools::imgdiff::{block_bias, mrse};
+    let refs = args.shared.join("refs");
+    let Ok(reference) = Image::read(refs.join(format!("{name}-ref.exr"))) else {
+        return Vec::new();
+    };
+    let (w, h) = (reference.width() as usize, reference.height() as usize);
+    let r = reference.rgb_data();
+    let mut rows = Vec::new();
+    for &n in spp {
+        let Ok(pbrt) = Image::read(refs.join(format!("{name}-{n}.exr"))) else {
+            continue;
+        };
+        let out = work.join(format!("rpbrt-{n}spp-pbrt-seed.exr"));
+        let timing = out.with_extension("seconds");
+        if !(args.reuse && out.exists()) {
+            eprintln!("{name}: {n} spp at pbrt-v4's seed");
+            let overrides = RenderOverrides {
+                spp: Some(n),
+                seed: Some(PBRT_SEED),
+                outfile: Some(out.clone()),
+                ..Default::default()
+            };
+            let (result, seconds, _) =
+                time_without_steal(|| render_file(scene, &overrides, threads, false));
+            if let Err(e) = result {
+                eprintln!("{name}: {n} spp at pbrt-v4's seed: {e}");
+                continue;
+            }
+            std::fs::write(&timing, format!("{seconds}\n")).ok();
+        }
+        let seconds = std::fs::read_to_string(&timing)
+            .ok()
+            .and_then(|t| t.trim().parse::<f64>().ok());
+        let Ok(ours) = Image::read(&out) else {
+            continue;
+        };
+        let (x, p) = (ours.rgb_data(), pbrt.rgb_data());
+        if x.len() != r.len() || p.len() != r.len() {
+            continue;
+        }
+        rows.push(SameSeed {
+            spp: n,
+            mrse: mrse(&x, &r),
+            block_bias: block_bias(&x, &r, w, h, 3, 16),
+            from_pbrt: mrse(&x, &p),
+            pbrt_mrse: mrse(&p, &r),
+            pbrt_block_bias: block_bias(&p, &r, w, h, 3, 16),
+            seconds,
+        });
+    }
+    rows
 }
 
 /// Block bias (../shared/refs/README.md) of each run's saved render
@@ -329,9 +416,11 @@ pub fn run(args: &ReportArgs) -> Result<(), Error> {
         std::fs::copy(work.join("convergence.png"), &plot).map_err(io_error(&plot))?;
         let peak_mb = peak_memory_mb(&scene, threads, &work.join("peak-memory.exr"));
         let block_bias = block_biases(&work, &reference, &runs);
+        let same_seed = same_seed_rows(args, name, &scene, &spp, &work, threads);
         results.push(SceneResult {
             name: name.clone(),
             block_bias,
+            same_seed,
             runs,
             rows,
             peak_mb,
@@ -657,6 +746,9 @@ fn markdown(args: &ReportArgs, results: &[SceneResult], skipped: &[String], dual
          i-th sample the same point at any spp, so each is the first samples of the next: one draw, not three. Where \
          a few fireflies set the MRSE (hair-curl-300) that draw's luck sets the ratio; performance-notes.md compares \
          the two renderers' tails of bright samples there instead.{}\n\
+         - **At pbrt-v4's seed**: rpbrt also renders each scene once at pbrt-v4's seed and spp. It draws pbrt-v4's \
+         samples (same sampler, randomisation and order of dimensions), so this compares the two renderers on the \
+         same draw: with the `sobol` sampler the two images are the same but for float rounding.\n\
          - Parse: scene file → scene description; build: shapes, lights, materials and BVH (medians over the renders). \
          Peak memory: `VmHWM` of a separate `rpbrt --stats` process rendering the scene at 1 spp (the film and scene \
          dominate; it does not grow with spp).\n",
@@ -670,7 +762,7 @@ fn markdown(args: &ReportArgs, results: &[SceneResult], skipped: &[String], dual
     let _ = writeln!(t, "## Summary\n");
     let _ = writeln!(
         t,
-        "| scene | kind | equal-error time ratio vs pbrt-v4 (quiet median) | goal | parse s | build s | peak memory |\n|---|---|---|---|---|---|---|"
+        "| scene | kind | equal-error time ratio vs pbrt-v4 (quiet median) | goal | README's rule at pbrt-v4's seed | parse s | build s | peak memory |\n|---|---|---|---|---|---|---|---|"
     );
     for r in results {
         let hair = r.name.starts_with("hair");
@@ -697,9 +789,28 @@ fn markdown(args: &ReportArgs, results: &[SceneResult], skipped: &[String], dual
             median(r.runs.iter().filter_map(f).collect())
                 .map_or("—".into(), |v| format!("{v:.3}"))
         };
+        let rule = if r.same_seed.is_empty() {
+            "—".to_string()
+        } else {
+            let spp: Vec<String> = r.same_seed.iter().map(|row| row.spp.to_string()).collect();
+            let failed: Vec<String> = r
+                .same_seed
+                .iter()
+                .filter(|row| {
+                    row.mrse > 1.25 * row.pbrt_mrse
+                        || row.block_bias > (2.0 * row.pbrt_block_bias).max(0.01)
+                })
+                .map(|row| row.spp.to_string())
+                .collect();
+            if failed.is_empty() {
+                format!("✓ at {} spp", spp.join(", "))
+            } else {
+                format!("✗ at {} spp", failed.join(", "))
+            }
+        };
         let _ = writeln!(
             t,
-            "| {} | {} | {ratio} | ≤ {goal}× | {} | {} | {} |",
+            "| {} | {} | {ratio} | ≤ {goal}× | {rule} | {} | {} | {} |",
             r.name,
             if hair { "hair" } else { "other" },
             of(|r| r.parse_seconds),
@@ -803,6 +914,43 @@ fn markdown(args: &ReportArgs, results: &[SceneResult], skipped: &[String], dual
                 row.block_bias
                     .map_or("—".into(), |b| format!("{:.4}", (2.0 * b).max(0.01)))
             );
+        }
+        if !r.same_seed.is_empty() {
+            let _ = writeln!(
+                t,
+                "\nAt pbrt-v4's seed ({PBRT_SEED}, that of its renders at these spp): the same rule, with the luck of \
+                 pbrt-v4's draw on both sides, and the MRSE between the two renders as a fraction of pbrt-v4's against \
+                 the reference (near 0: the same samples give the same image; about 2: independent renders; block bias \
+                 here computed from pbrt-v4's image, so the bound may differ from the README's by rounding):\n\n\
+                 | spp | rpbrt MRSE | pbrt-v4 MRSE | ratio | rpbrt block bias | bound | MRSE between the two / pbrt-v4's | rpbrt s (steal removed) | vs pbrt-v4's s (README) |\n\
+                 |---|---|---|---|---|---|---|---|---|"
+            );
+            for row in &r.same_seed {
+                let bound = (2.0 * row.pbrt_block_bias).max(0.01);
+                let pass = row.mrse <= 1.25 * row.pbrt_mrse && row.block_bias <= bound;
+                let pbrt_seconds = r.rows.iter().find(|x| x.spp == row.spp).map(|x| {
+                    x.quiet_seconds
+                        .map_or((x.rendered_seconds, " (as rendered)"), |q| (q, " (quiet)"))
+                });
+                let vs = match (row.seconds, pbrt_seconds) {
+                    (Some(ours), Some((theirs, which))) => {
+                        format!("{:.2}× of {theirs:.2}{which}", ours / theirs)
+                    }
+                    _ => "—".into(),
+                };
+                let _ = writeln!(
+                    t,
+                    "| {} | {:.6} | {:.6} | {:.3}{} | {:.5} | {bound:.4} | {:.4} | {} | {vs} |",
+                    row.spp,
+                    row.mrse,
+                    row.pbrt_mrse,
+                    row.mrse / row.pbrt_mrse,
+                    if pass { " ✓" } else { " ✗" },
+                    row.block_bias,
+                    row.from_pbrt / row.pbrt_mrse,
+                    row.seconds.map_or("—".into(), |s| format!("{s:.2}"))
+                );
+            }
         }
         let pbrt_curve = curve(&r.runs, Renderer::Pbrt);
         if !pbrt_curve.is_empty() {
