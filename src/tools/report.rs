@@ -79,6 +79,17 @@ pub struct ReferenceRow {
     pub block_bias: Option<f64>,
 }
 
+impl ReferenceRow {
+    /// pbrt-v4's time to compare with: the quiet median where there is one,
+    /// and which it is.
+    fn time(&self) -> (f64, &'static str) {
+        self.quiet_seconds
+            .map_or((self.rendered_seconds, " (as rendered)"), |q| {
+                (q, " (quiet)")
+            })
+    }
+}
+
 /// The figures table of `../shared/refs/README.md`: rows of `| scene |
 /// ref spp | spp | quiet s | as-rendered s | MRSE | block bias |`.
 pub fn parse_reference_table(readme: &str) -> Vec<ReferenceRow> {
@@ -237,6 +248,18 @@ struct SameSeed {
     /// Whole-render seconds, steal removed (kept beside the image for
     /// `--reuse`).
     seconds: Option<f64>,
+}
+
+impl SameSeed {
+    /// The README's block-bias bound, from pbrt-v4's image.
+    fn bound(&self) -> f64 {
+        (2.0 * self.pbrt_block_bias).max(0.01)
+    }
+
+    /// The README's rule: MRSE ≤ 1.25 × pbrt-v4's, block bias within bound.
+    fn passes(&self) -> bool {
+        self.mrse <= 1.25 * self.pbrt_mrse && self.block_bias <= self.bound()
+    }
 }
 
 /// Renders `scene` at pbrt-v4's seed at each listed spp (or, with
@@ -796,10 +819,7 @@ fn markdown(args: &ReportArgs, results: &[SceneResult], skipped: &[String], dual
             let failed: Vec<String> = r
                 .same_seed
                 .iter()
-                .filter(|row| {
-                    row.mrse > 1.25 * row.pbrt_mrse
-                        || row.block_bias > (2.0 * row.pbrt_block_bias).max(0.01)
-                })
+                .filter(|row| !row.passes())
                 .map(|row| row.spp.to_string())
                 .collect();
             if failed.is_empty() {
@@ -865,11 +885,7 @@ fn markdown(args: &ReportArgs, results: &[SceneResult], skipped: &[String], dual
             .collect();
         let _ = writeln!(t, "\n| pbrt-v4 spp | pbrt-v4 MRSE | pbrt-v4 s | rpbrt s at that MRSE | ratio |\n|---|---|---|---|---|");
         for row in &r.rows {
-            let (s, which) = row
-                .quiet_seconds
-                .map_or((row.rendered_seconds, " (as rendered)"), |q| {
-                    (q, " (quiet)")
-                });
+            let (s, which) = row.time();
             let ours = time_at_error(&points, row.mrse);
             let _ = writeln!(
                 t,
@@ -926,12 +942,7 @@ fn markdown(args: &ReportArgs, results: &[SceneResult], skipped: &[String], dual
                  |---|---|---|---|---|---|---|---|---|"
             );
             for row in &r.same_seed {
-                let bound = (2.0 * row.pbrt_block_bias).max(0.01);
-                let pass = row.mrse <= 1.25 * row.pbrt_mrse && row.block_bias <= bound;
-                let pbrt_seconds = r.rows.iter().find(|x| x.spp == row.spp).map(|x| {
-                    x.quiet_seconds
-                        .map_or((x.rendered_seconds, " (as rendered)"), |q| (q, " (quiet)"))
-                });
+                let pbrt_seconds = r.rows.iter().find(|x| x.spp == row.spp).map(|x| x.time());
                 let vs = match (row.seconds, pbrt_seconds) {
                     (Some(ours), Some((theirs, which))) => {
                         format!("{:.2}× of {theirs:.2}{which}", ours / theirs)
@@ -940,13 +951,14 @@ fn markdown(args: &ReportArgs, results: &[SceneResult], skipped: &[String], dual
                 };
                 let _ = writeln!(
                     t,
-                    "| {} | {:.6} | {:.6} | {:.3}{} | {:.5} | {bound:.4} | {:.4} | {} | {vs} |",
+                    "| {} | {:.6} | {:.6} | {:.3}{} | {:.5} | {:.4} | {:.4} | {} | {vs} |",
                     row.spp,
                     row.mrse,
                     row.pbrt_mrse,
                     row.mrse / row.pbrt_mrse,
-                    if pass { " ✓" } else { " ✗" },
+                    if row.passes() { " ✓" } else { " ✗" },
                     row.block_bias,
+                    row.bound(),
                     row.from_pbrt / row.pbrt_mrse,
                     row.seconds.map_or("—".into(), |s| format!("{s:.2}"))
                 );
