@@ -130,6 +130,9 @@ impl ObjectTransform {
         out.shading.dpdv = m.transform_vector3(object.shading.dpdv);
         out.shading.dndu = transform_normal(inverse, object.shading.dndu);
         out.shading.dndv = transform_normal(inverse, object.shading.dndv);
+        // A direction across the fibre, as dpdv (the material projects it
+        // onto the plane across the fibre, so a shear needs no more).
+        out.fiber_reference = m.transform_vector3(object.fiber_reference);
         out
     }
 }
@@ -220,5 +223,24 @@ mod tests {
             .transform_vector3(Vec3::new(1.0, -1.0, 0.0));
         assert!(n.dot(tangent).abs() < 1e-6);
         assert!(n.x > n.y);
+    }
+
+    /// An instanced fibre's reference direction turns with the instance
+    /// (it was left in object space, so an instanced elliptical strand kept
+    /// its object-space orientation whatever the instance's rotation).
+    #[test]
+    fn fibre_reference_turns_with_the_instance() {
+        let t = Transform::rotate(std::f64::consts::FRAC_PI_2, DVec3::Z).unwrap();
+        let xf = ObjectTransform::new(&t);
+        let si = SurfaceInteraction {
+            fiber_reference: Vec3::X,
+            ..Default::default()
+        };
+        let out = xf.interaction_to_render(&si);
+        assert!(
+            (out.fiber_reference - Vec3::Y).length() < 1e-6,
+            "{}",
+            out.fiber_reference
+        );
     }
 }
