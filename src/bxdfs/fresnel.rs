@@ -26,6 +26,34 @@ pub fn fr_dielectric(cos_theta_i: f32, eta: f32) -> f32 {
     (r_parallel * r_parallel + r_perpendicular * r_perpendicular) / 2.0
 }
 
+/// [`fr_dielectric`] for light from outside (η the inside's index over the
+/// outside's) when both cosines are known already: `cos_outside` of the
+/// ray outside and `cos_inside` of the refracted one, both with the
+/// normal, both ≥ 0. The two reflection coefficients share one division.
+/// Under total internal reflection (no ray outside: `cos_outside` = 0) it
+/// is exactly 1, and 1 too where both cosines are 0 (a tangent ray).
+#[inline]
+pub fn fr_dielectric_cosines(cos_outside: f32, cos_inside: f32, eta: f32) -> f32 {
+    // r_∥ = (η c_o − c_i)/(η c_o + c_i), r_⊥ = (c_o − η c_i)/(c_o + η c_i).
+    let (num_par, den_par) = (
+        eta * cos_outside - cos_inside,
+        eta * cos_outside + cos_inside,
+    );
+    let (num_perp, den_perp) = (
+        cos_outside - eta * cos_inside,
+        cos_outside + eta * cos_inside,
+    );
+    let (den_par2, den_perp2) = (den_par * den_par, den_perp * den_perp);
+    // With c_o = 0 both terms are the same product: 2x / 2x = 1 exactly.
+    let num = num_par * num_par * den_perp2 + num_perp * num_perp * den_par2;
+    let den = 2.0 * den_par2 * den_perp2;
+    if den > 0.0 {
+        num / den
+    } else {
+        1.0
+    }
+}
+
 /// Reflectance of a conductor (or any absorbing medium) with complex index
 /// η + i k relative to the outside, lit from outside. The cosine is
 /// clamped to [0, 1]: conductors are opaque, so light never arrives from
@@ -151,6 +179,26 @@ mod tests {
         assert_eq!(fr_dielectric(-0.5, 1.5), 1.0);
         // Index-matched: nothing is reflected.
         assert!(fr_dielectric(0.3, 1.0) < 1e-12);
+    }
+
+    /// From both cosines it is [`fr_dielectric`] to float rounding, and 1
+    /// exactly without a ray outside.
+    #[test]
+    fn reflectance_from_both_cosines() {
+        for eta in [1.0001f32, 1.33, 1.55, 2.4] {
+            for i in 0..=200 {
+                let cos_outside = i as f32 / 200.0;
+                let cos_inside = (1.0 - (1.0 - cos_outside * cos_outside) / (eta * eta)).sqrt();
+                let a = fr_dielectric_cosines(cos_outside, cos_inside, eta);
+                let b = fr_dielectric(cos_outside, eta);
+                assert!(
+                    (a - b).abs() <= 4e-7 * b.max(1e-3),
+                    "η {eta}, cos {cos_outside}: {a} vs {b}"
+                );
+            }
+            assert_eq!(fr_dielectric_cosines(0.0, 0.3, eta), 1.0);
+            assert_eq!(fr_dielectric_cosines(0.0, 0.0, eta), 1.0);
+        }
     }
 
     #[test]

@@ -21,7 +21,7 @@
 //! and a 30 × 20 µm ellipse absorbs like the 50 µm-thick circular fibre the
 //! paper compares it with; a = b is pbrt's fibre exactly.
 
-use super::fresnel::fr_dielectric;
+use super::fresnel::{fr_dielectric, fr_dielectric_cosines};
 use crate::math::fast_atan2::fast_atan2;
 use crate::math::{safe_sqrt, sqr};
 use crate::spectrum::SampledSpectrum;
@@ -345,7 +345,16 @@ impl Ellipse {
         let d = -u;
         let cos_i = (-d.dot(n)).clamp(0.0, 1.0);
         let r = reflect(d, n);
-        let f0 = fr_dielectric(optics.cos_theta * cos_i as f32, optics.eta);
+        // Refract in (Snell with η'): t = d/η' + (cos_i/η' − cos_t) n.
+        let inv = 1.0 / eta_p;
+        let cos_t = sqrt0(1.0 - inv * inv * (1.0 - cos_i * cos_i));
+        // The 3D cosines are the 2D ones times cos θ outside and cos θ_t
+        // inside (Bravais), so Fresnel needs no square root of its own.
+        let f0 = fr_dielectric_cosines(
+            optics.cos_theta * cos_i as f32,
+            optics.cos_theta_t * cos_t as f32,
+            optics.eta,
+        );
         let residual = variant == Variant::Exact;
         on_exit(
             0,
@@ -355,9 +364,6 @@ impl Ellipse {
                 length: 0.0,
             },
         );
-        // Refract in (Snell with η'): t = d/η' + (cos_i/η' − cos_t) n.
-        let inv = 1.0 / eta_p;
-        let cos_t = sqrt0(1.0 - inv * inv * (1.0 - cos_i * cos_i));
         // Of unit length (|t|² = sin²θ_t + cos²θ_t for unit d and n).
         let mut d = d * inv + (cos_i * inv - cos_t) * n;
         let mut inside = 1.0 - f0;
@@ -388,12 +394,14 @@ impl Ellipse {
             let f = match fresnel {
                 _ if tir && variant == Variant::Exact => 1.0,
                 // Hair → air at the internal angle equals air → hair at
-                // the external one (Fresnel is reciprocal); the external
-                // form is the well-conditioned one near the critical angle.
-                InternalFresnel::Pbrt if tir => 1.0,
-                InternalFresnel::Pbrt => {
-                    fr_dielectric(optics.cos_theta * cos_out as f32, optics.eta)
-                }
+                // the external one (Fresnel is reciprocal), from both 3D
+                // cosines: near the critical angle the external one is the
+                // well-conditioned input, and it is 0 under TIR (f = 1).
+                InternalFresnel::Pbrt => fr_dielectric_cosines(
+                    optics.cos_theta * cos_out as f32,
+                    optics.cos_theta_t * cos2_int.sqrt() as f32,
+                    optics.eta,
+                ),
                 InternalFresnel::Paper => {
                     fr_dielectric(optics.cos_theta * cos2_int.sqrt() as f32, optics.eta)
                 }
