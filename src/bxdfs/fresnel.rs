@@ -32,6 +32,8 @@ pub fn fr_dielectric(cos_theta_i: f32, eta: f32) -> f32 {
 /// normal, both ≥ 0. The two reflection coefficients share one division.
 /// Under total internal reflection (no ray outside: `cos_outside` = 0) it
 /// is exactly 1, and 1 too where both cosines are 0 (a tangent ray).
+/// (`fr_dielectric` keeps pbrt-v4's own form: pbrt-v4's circular hair and
+/// dielectrics are matched to its rounding.)
 #[inline]
 pub fn fr_dielectric_cosines(cos_outside: f32, cos_inside: f32, eta: f32) -> f32 {
     // r_∥ = (η c_o − c_i)/(η c_o + c_i), r_⊥ = (c_o − η c_i)/(c_o + η c_i).

@@ -392,16 +392,19 @@ impl Ellipse {
             let tir = sin2_out >= 1.0;
             let cos_out = sqrt0(1.0 - sin2_out);
             let f = match fresnel {
-                _ if tir && variant == Variant::Exact => 1.0,
                 // Hair → air at the internal angle equals air → hair at
                 // the external one (Fresnel is reciprocal), from both 3D
                 // cosines: near the critical angle the external one is the
-                // well-conditioned input, and it is 0 under TIR (f = 1).
+                // well-conditioned input, and it is 0 under TIR, where the
+                // function gives exactly 1 (no TIR case needed here).
                 InternalFresnel::Pbrt => fr_dielectric_cosines(
                     optics.cos_theta * cos_out as f32,
                     optics.cos_theta_t * cos2_int.sqrt() as f32,
                     optics.eta,
                 ),
+                // The paper's f1 takes the internal angle as if outside,
+                // so it never sees TIR: the exact variant reflects it all.
+                InternalFresnel::Paper if tir && variant == Variant::Exact => 1.0,
                 InternalFresnel::Paper => {
                     fr_dielectric(optics.cos_theta * cos2_int.sqrt() as f32, optics.eta)
                 }
