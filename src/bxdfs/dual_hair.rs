@@ -169,7 +169,6 @@ impl DualHairBxDF {
         let h = self.base.h * (1.0 + self.params.d_diff);
         let hit = if h.abs() <= 1.0 {
             let optics = Optics::new(self.base.eta, sin_theta_o);
-            let mut phi = [0.0; LOBES];
             let mut a = Attenuation::new(
                 self.base.sigma_a,
                 optics.cos_theta_t,
@@ -189,16 +188,11 @@ impl DualHairBxDF {
                 &optics,
                 self.params.variant,
                 self.params.internal_fresnel,
-                |k, exit| {
-                    if k < LOBES {
-                        phi[k] = exit.phi;
-                    }
-                    a.add(k, &exit);
-                },
+                |k, exit| a.add(k, &exit),
             );
             let a = a.finish(&end);
             Hit::Fibre {
-                phi,
+                phi: end.phi,
                 pdf: Self::lobe_pdf(&a),
                 a,
             }

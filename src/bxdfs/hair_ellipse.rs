@@ -22,10 +22,10 @@
 //! paper compares it with; a = b is pbrt's fibre exactly.
 
 use super::fresnel::{fr_dielectric, fr_dielectric_cosines};
-use crate::math::fast_atan2::fast_atan2;
+use crate::math::fast_atan2::fast_atan2_x4;
 use crate::math::{safe_sqrt, sqr};
 use crate::spectrum::SampledSpectrum;
-use glam::DVec2;
+use glam::{DVec2, Vec4};
 
 /// Explicit lobes R, TT, TRT (as pbrt's `P_MAX`).
 pub const LOBES: usize = 3;
@@ -118,12 +118,11 @@ impl Optics {
     }
 }
 
-/// One way out of the fibre: the azimuth it leaves at, the fraction of the
-/// entering power that leaves there before absorption (Fresnel only), and
-/// the path length inside up to there (in mean-radius units).
+/// One way out of the fibre: the fraction of the entering power that
+/// leaves there before absorption (Fresnel only), and the path length
+/// inside up to there (in mean-radius units).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Exit {
-    pub phi: f32,
     pub escape: f32,
     pub length: f32,
 }
@@ -132,6 +131,9 @@ pub struct Exit {
 /// residual's geometric tail needs.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct TraceEnd {
+    /// The azimuths the explicit lobes R, TT, TRT leave at (a lobe trapped
+    /// by total internal reflection: its reflected direction's).
+    pub phi: [f32; LOBES],
     /// Exits traced (the first `count`).
     pub count: usize,
     /// Power still inside after the last traced exit (whose `length` is
@@ -356,10 +358,13 @@ impl Ellipse {
             optics.eta,
         );
         let residual = variant == Variant::Exact;
+        // The lobes' exit directions (turned), their azimuths taken at once
+        // after the loop.
+        let mut lobe_directions = [DVec2::X; LOBES];
+        lobe_directions[0] = turn.rotate(r);
         on_exit(
             0,
             Exit {
-                phi: azimuth(turn.rotate(r)),
                 escape: f0,
                 length: 0.0,
             },
@@ -413,18 +418,16 @@ impl Ellipse {
             // Only the explicit lobes need a direction: the refracted ray
             // η' d + (cos_out − η' cos_int) n̂ with n̂ = m/|m| and
             // cos_int = d·m/|m|.
-            let phi = if k >= LOBES {
-                0.0
-            } else if tir {
-                azimuth(turn.rotate(reflected))
-            } else {
-                let out = eta_p * d + (cos_out * inv_mm.sqrt() - eta_p * dm * inv_mm) * m;
-                azimuth(turn.rotate(out))
-            };
+            if k < LOBES {
+                lobe_directions[k] = turn.rotate(if tir {
+                    reflected
+                } else {
+                    eta_p * d + (cos_out * inv_mm.sqrt() - eta_p * dm * inv_mm) * m
+                });
+            }
             on_exit(
                 k,
                 Exit {
-                    phi,
                     escape: if tir { 0.0 } else { inside * (1.0 - f) },
                     length: length as f32,
                 },
@@ -438,6 +441,7 @@ impl Ellipse {
         }
         let later = (count - TAIL_FROM) as f32;
         TraceEnd {
+            phi: azimuths(lobe_directions),
             count,
             remaining: inside,
             tail_escape: tail_escape / later,
@@ -447,13 +451,17 @@ impl Ellipse {
     }
 }
 
-/// The azimuth of a unit direction of the trace, in f32 (what the lobes
+/// The azimuths of the lobes' unit exit directions, in f32 (what the lobes
 /// keep): the polynomial atan2 on the rounded components, within 3·10⁻⁷
-/// rad (a few f32 roundings of the angle) and about a quarter of libm's
-/// cost (three per vertex).
+/// rad (a few f32 roundings of the angle), the three in one four-lane call.
 #[inline]
-fn azimuth(d: DVec2) -> f32 {
-    fast_atan2(d.y as f32, d.x as f32)
+fn azimuths(d: [DVec2; LOBES]) -> [f32; LOBES] {
+    let [r, tt, trt] = d.map(|v| v.as_vec2());
+    let phi = fast_atan2_x4(
+        Vec4::new(r.y, tt.y, trt.y, 0.0),
+        Vec4::new(r.x, tt.x, trt.x, 1.0),
+    );
+    [phi.x, phi.y, phi.z]
 }
 
 impl Trace {
@@ -596,7 +604,7 @@ pub fn h_averaged_row(
             if a[p][0] <= 0.0 {
                 continue;
             }
-            let center = trace.exits[p].phi;
+            let center = trace.end.phi[p];
             let k0 = (center / step).round() as i64;
             let last = if 2 * reach >= n_out as i64 {
                 k0 - reach + n_out as i64 - 1
@@ -838,9 +846,9 @@ mod tests {
             let gi2 = -angle(n2, d2);
             let gt2 = (ETA * gi2.sin()).asin();
             let eq15 = phi - gt1 + gi1 + gt0 - gi0 + PI;
-            worst15 = worst15.max(wrap(eq15 - t.exits[1].phi as f64).abs());
+            worst15 = worst15.max(wrap(eq15 - t.end.phi[1] as f64).abs());
             let eq20 = phi - gt2 + gi2 + 2.0 * gi1 + gt0 - gi0 + 2.0 * PI;
-            worst20 = worst20.max(wrap(eq20 - t.exits[2].phi as f64).abs());
+            worst20 = worst20.max(wrap(eq20 - t.end.phi[2] as f64).abs());
             count += 1;
         });
         eprintln!("Eq. 15 worst {worst15:.2e}, Eq. 20 worst {worst20:.2e} over {count} rays");
@@ -902,7 +910,7 @@ mod tests {
                             % bins
                     };
                     for p in 0..LOBES {
-                        t[p][bin(phi) * bins + bin(tr.exits[p].phi)] += w * a[p][0] as f64;
+                        t[p][bin(phi) * bins + bin(tr.end.phi[p])] += w * a[p][0] as f64;
                     }
                 }
             }

@@ -9,6 +9,7 @@
 //! where it matters here (atan2(±0, x) for x ≥ 0 is ±0, for x < 0 it is
 //! ±π); NaN gives NaN.
 
+use glam::Vec4;
 use std::f32::consts::{FRAC_PI_2, PI};
 
 /// A&S 4.4.49: atan t ≈ t (1 + Σ a_{2k} t^{2k}), k = 1…8, on [0, 1].
@@ -51,6 +52,40 @@ pub fn fast_atan2(y: f32, x: f32) -> f32 {
     if x.is_sign_negative() {
         r = PI - r;
     }
+    r.copysign(y)
+}
+
+/// [`fast_atan2`] on four lanes at once, equal to it lane by lane (the
+/// same operations in the same order), without its branches: the octant
+/// tests become selects. The dual hair model's trace takes its three lobe
+/// azimuths together, and the octant branches of three scalar calls were
+/// mispredicted about half the time (they follow the exit directions).
+#[inline]
+pub fn fast_atan2_x4(y: Vec4, x: Vec4) -> Vec4 {
+    let (ax, ay) = (x.abs(), y.abs());
+    let swap = ay.cmpgt(ax);
+    let num = Vec4::select(swap, ax, ay);
+    let den = Vec4::select(swap, ay, ax);
+    let ratio = num / den;
+    // As the scalar: a NaN ratio from 0/0 or ∞/∞ is 0 or 1, one from a NaN
+    // input stays NaN.
+    let input_nan = x.cmpne(x) | y.cmpne(y);
+    let special = ratio.cmpne(ratio) & !input_nan;
+    let t = Vec4::select(
+        special,
+        Vec4::select(num.cmpeq(Vec4::ZERO), Vec4::ZERO, Vec4::ONE),
+        ratio,
+    );
+    let t2 = t * t;
+    let mut p = Vec4::splat(A[7]);
+    for &c in A[..7].iter().rev() {
+        p = p * t2 + Vec4::splat(c);
+    }
+    let mut r = t + t * t2 * p;
+    r = Vec4::select(swap, Vec4::splat(FRAC_PI_2) - r, r);
+    // The sign bit of x, as `is_sign_negative` (−0 included).
+    let x_negative = Vec4::ONE.copysign(x).cmplt(Vec4::ZERO);
+    r = Vec4::select(x_negative, Vec4::splat(PI) - r, r);
     r.copysign(y)
 }
 
@@ -102,5 +137,51 @@ mod tests {
         }
         assert!(fast_atan2(f32::NAN, 1.0).is_nan());
         assert!(fast_atan2(1.0, f32::NAN).is_nan());
+    }
+
+    /// Lane by lane the same bits as the scalar function, around the
+    /// circle and at the special values.
+    #[test]
+    fn four_lanes_equal_the_scalar() {
+        let mut ys = Vec::new();
+        let mut xs = Vec::new();
+        for i in 0..20_000 {
+            let phi = -PI + 2.0 * PI * (i as f32 + 0.5) / 20_000.0;
+            ys.push(phi.sin() * 3.0);
+            xs.push(phi.cos() * 3.0);
+        }
+        let special = [
+            0.0f32,
+            -0.0,
+            1.0,
+            -1.0,
+            f32::INFINITY,
+            -f32::INFINITY,
+            f32::NAN,
+        ];
+        for &y in &special {
+            for &x in &special {
+                ys.push(y);
+                xs.push(x);
+            }
+        }
+        while ys.len() % 4 != 0 {
+            ys.push(1.0);
+            xs.push(1.0);
+        }
+        for (y, x) in ys.chunks(4).zip(xs.chunks(4)) {
+            let got = fast_atan2_x4(Vec4::from_slice(y), Vec4::from_slice(x));
+            for k in 0..4 {
+                let want = fast_atan2(y[k], x[k]);
+                assert!(
+                    got[k].to_bits() == want.to_bits() || got[k].is_nan() && want.is_nan(),
+                    "atan2({}, {}): {} vs {}",
+                    y[k],
+                    x[k],
+                    got[k],
+                    want
+                );
+            }
+        }
     }
 }
