@@ -37,9 +37,9 @@ pub struct SurfaceInteraction {
     pub shading: Shading,
     /// For curves: the offset across the fibre, −1…1 (pbrt's h = −1 + 2v).
     pub curve_h: f32,
-    /// For curves: a unit vector ⟂ the tangent that does not turn with the
-    /// view, stable along the strand (orients elliptical fibres); zero for
-    /// other shapes.
+    /// For curves: a direction across the fibre that does not turn with the
+    /// view, stable along the strand (orients elliptical fibres; not unit,
+    /// and only its part ⟂ the tangent counts); zero for other shapes.
     pub fiber_reference: Vec3,
     /// Index of the primitive hit (into the built scene's primitive list).
     pub primitive: u32,

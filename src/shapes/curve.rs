@@ -529,7 +529,7 @@ impl CurveHit {
             dpdv,
             curve_h: -1.0 + 2.0 * self.v,
             fiber_reference: if segment.fibre_frame {
-                super::curve_frame::reference_at(segment, self.u, dpdu, self.n_hit)
+                super::curve_frame::reference_at(segment, self.u, self.n_hit)
             } else {
                 Vec3::ZERO
             },

@@ -8,8 +8,8 @@
 //! the double-reflection method (Wang, Jüttler, Zheng & Liu 2008), started
 //! from a direction fixed by the first tangent, sampled at each segment's
 //! ends and carried across segments, so it is continuous and twist-free
-//! along the strand. At a hit it is interpolated and made orthogonal to
-//! the tangent there.
+//! along the strand. At a hit it is interpolated; the material takes its
+//! part across the fibre.
 
 use super::curve::{evaluate_bezier, CurveSegment, CurveType};
 use crate::math::frame::coordinate_system;
@@ -71,16 +71,17 @@ fn orthogonal(r: Vec3, t: Vec3) -> Vec3 {
         .unwrap_or_else(|| coordinate_system(t).0)
 }
 
-/// The reference at parameter u of a hit with tangent `dpdu`: the ribbon
-/// normal for ribbons, else the transported frame, interpolated.
-pub fn reference_at(seg: &CurveSegment, u: f32, dpdu: Vec3, ribbon_normal: Vec3) -> Vec3 {
-    let t = dpdu.try_normalize().unwrap_or(Vec3::Z);
-    let r = if seg.kind == CurveType::Ribbon {
+/// The reference at parameter u of a hit: the ribbon normal for ribbons,
+/// else the transported frame, interpolated. Neither unit nor exactly ⟂
+/// the tangent: the material uses only its direction across the fibre
+/// (its components in the shading frame's plane ⟂ dpdu, normalised
+/// there), so normalising and orthogonalising here would be done twice.
+pub fn reference_at(seg: &CurveSegment, u: f32, ribbon_normal: Vec3) -> Vec3 {
+    if seg.kind == CurveType::Ribbon {
         ribbon_normal
     } else {
         seg.reference[0].lerp(seg.reference[1], u)
-    };
-    orthogonal(r, t)
+    }
 }
 
 #[cfg(test)]
@@ -127,8 +128,13 @@ mod tests {
                 let r = s.reference[k];
                 assert!((r.length() - 1.0).abs() < 1e-4 && r.dot(d.normalize()).abs() < 1e-3);
             }
-            let r = reference_at(s, 0.4, evaluate_bezier(&s.cp, 0.4).1, Vec3::ZERO);
-            assert!((r.length() - 1.0).abs() < 1e-4);
+            // Between the ends the interpolated reference keeps a part
+            // across the tangent far from degenerate (the material takes
+            // that part's direction), though a segment here turns 46°.
+            let r = reference_at(s, 0.4, Vec3::ZERO);
+            let t = evaluate_bezier(&s.cp, 0.4).1.normalize();
+            let across = (r - t * t.dot(r)).length();
+            assert!(across > 0.9, "{across}");
         }
         let mut straight = vec![segment([Vec3::ZERO, Vec3::X, 2.0 * Vec3::X, 3.0 * Vec3::X]); 3];
         transport(&mut straight);
