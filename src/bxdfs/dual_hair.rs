@@ -81,6 +81,16 @@ impl DualHairParams {
     }
 }
 
+/// |x| wrapped into [0, π] for |x| ≤ 3π (a lobe's azimuth, in [−π, π],
+/// from φ_i, which a sample may leave in [−2π, 2π]): the same bits as
+/// `wrap_angle(x).abs()`, without its two branches, which follow the
+/// directions and so were mispredicted often (six calls per path vertex).
+#[inline]
+fn abs_wrapped(x: f32) -> f32 {
+    let a = x.abs();
+    a.min((a - 2.0 * PI).abs())
+}
+
 /// The major axis's direction (cos, sin of its azimuth φ = atan2(z, y)) in
 /// the BxDF's local frame, at `orientation` (cos, sin) from a reference
 /// direction whose local (y, z) are given (φ = π/2 when the reference is
@@ -285,7 +295,7 @@ impl DualHairBxDF {
                 for p in 0..LOBES {
                     let (sin_o, cos_o) = l.tilted[p];
                     let m = self.base.m(p).eval(cos_theta_i, cos_o, sin_theta_i, sin_o);
-                    let n = self.base.azimuthal_logistic(wrap_angle(phi_i - phi[p]));
+                    let n = self.base.azimuthal_logistic(abs_wrapped(phi_i - phi[p]));
                     f += a[p] * (m * n);
                     density += pdf[p] * (m * n);
                 }
@@ -347,8 +357,15 @@ impl DualHairBxDF {
                     phi[p] + self.base.sample_azimuthal_logistic(uc)
                 } else {
                     // The residual's azimuth is uniform (ω_o's azimuth as
-                    // the origin, as pbrt's).
-                    fast_atan2(wo.z, wo.y) + 2.0 * PI * uc
+                    // the origin, as pbrt's), brought back by a turn past
+                    // π so that φ_i stays in [−2π, 2π], as after a lobe's
+                    // sample (`abs_wrapped`'s range).
+                    let phi_i = fast_atan2(wo.z, wo.y) + 2.0 * PI * uc;
+                    if phi_i > PI {
+                        phi_i - 2.0 * PI
+                    } else {
+                        phi_i
+                    }
                 };
                 (s, c, phi_i)
             }
@@ -413,6 +430,22 @@ mod tests {
     use crate::math::sampling::{sample_uniform_sphere, UNIFORM_SPHERE_PDF};
 
     const LAMBDA: [f32; 4] = [420.0, 510.0, 590.0, 690.0];
+
+    #[test]
+    fn abs_wrapped_is_wrap_angle_abs() {
+        for i in -300_000..=300_000 {
+            let x = i as f32 * (3.0 * PI / 300_000.0);
+            for x in [x, x.next_up(), x.next_down()] {
+                if x.abs() <= 3.0 * PI {
+                    assert_eq!(
+                        abs_wrapped(x).to_bits(),
+                        wrap_angle(x).abs().to_bits(),
+                        "{x}"
+                    );
+                }
+            }
+        }
+    }
 
     fn params(
         a_over_b: f32,
