@@ -357,15 +357,10 @@ impl DualHairBxDF {
                     phi[p] + self.base.sample_azimuthal_logistic(uc)
                 } else {
                     // The residual's azimuth is uniform (ω_o's azimuth as
-                    // the origin, as pbrt's), brought back by a turn past
-                    // π so that φ_i stays in [−2π, 2π], as after a lobe's
-                    // sample (`abs_wrapped`'s range).
-                    let phi_i = fast_atan2(wo.z, wo.y) + 2.0 * PI * uc;
-                    if phi_i > PI {
-                        phi_i - 2.0 * PI
-                    } else {
-                        phi_i
-                    }
+                    // the origin, as pbrt's), wrapped so that φ_i stays in
+                    // [−2π, 2π], as after a lobe's sample (`abs_wrapped`'s
+                    // range).
+                    wrap_angle(fast_atan2(wo.z, wo.y) + 2.0 * PI * uc)
                 };
                 (s, c, phi_i)
             }

@@ -299,9 +299,10 @@ impl Ellipse {
     /// azimuth φ_in, handing each exit to `on_exit` (its index and itself)
     /// as it is traced instead of keeping them: a path vertex needs only the
     /// attenuations and the lobes' azimuths ([`Attenuation`]), not a 24-exit
-    /// record to fill and copy. The exits' azimuths are those of their
-    /// directions turned by `turn` (cos, sin): the major axis's direction in
-    /// the caller's frame gives them in that frame.
+    /// record to fill and copy. The lobes' azimuths come back in
+    /// [`TraceEnd::phi`], those of their directions turned by `turn`
+    /// (cos, sin): the major axis's direction in the caller's frame gives
+    /// them in that frame.
     #[allow(clippy::too_many_arguments)]
     pub fn trace_into(
         &self,
