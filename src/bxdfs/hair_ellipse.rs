@@ -368,7 +368,9 @@ impl Ellipse {
         let cos_i = (um * inv_m).min(1.0);
         let d = -u;
         let r = d + 2.0 * um * inv_mm * m;
-        // Refract in (Snell with η'): t = d/η' + (cos_i/η' − cos_t) n̂.
+        // Refract in (Snell with η'): t = d/η' + (cos_i/η' − cos_t) n̂,
+        // cos_t from cos²_i = (u·M p)²/|M p|², which waits for no square
+        // root.
         let inv = 1.0 / eta_p;
         let cos_t = sqrt0(1.0 - inv * inv * (1.0 - (um * um * inv_mm).min(1.0)));
         // The 3D cosines are the 2D ones times cos θ outside and cos θ_t
@@ -693,9 +695,14 @@ mod tests {
 
     /// The entry point, normal and refracted direction, by vectors.
     fn entry(phi: f64, h: f64) -> (DVec2, DVec2, DVec2, DVec2) {
+        entry_in(&E, phi, h)
+    }
+
+    /// [`entry`] for another ellipse, the entry point by the quadratic.
+    fn entry_in(e: &Ellipse, phi: f64, h: f64) -> (DVec2, DVec2, DVec2, DVec2) {
         let u = DVec2::new(phi.cos(), phi.sin());
-        let p0 = E.entry(u, h * E.half_width(phi as f32) as f64);
-        let n0 = E.normal(p0);
+        let p0 = e.entry(u, h * e.half_width(phi as f32) as f64);
+        let n0 = e.normal(p0);
         let d = -u;
         let cos_i = -d.dot(n0);
         let cos_t = (1.0 - (1.0 - cos_i * cos_i) / (ETA * ETA)).sqrt();
@@ -862,7 +869,6 @@ mod tests {
                 let phi = 2.0 * PI * (i as f64 + 0.3) / 96.0;
                 for j in 0..=40 {
                     let h = -1.0 + j as f64 / 20.0;
-                    let u = DVec2::new(phi.cos(), phi.sin());
                     let t = e.trace(
                         phi as f32,
                         h as f32,
@@ -875,14 +881,10 @@ mod tests {
                         assert!(wrap(t.end.phi[0] as f64 - phi - PI).abs() < 1e-6);
                         continue;
                     }
-                    let p0 = e.entry(u, h * e.half_width(phi as f32) as f64);
-                    let n0 = e.normal(p0);
-                    let cos_i = u.dot(n0).clamp(0.0, 1.0);
-                    let cos_t = (1.0 - (1.0 - cos_i * cos_i) / (ETA * ETA)).sqrt();
-                    let d1 = -u / ETA + (cos_i / ETA - cos_t) * n0;
+                    let (u, p0, n0, d1) = entry_in(&e, phi, h);
                     let r = az(reflect(-u, n0));
                     worst[0] = worst[0].max(wrap(t.end.phi[0] as f64 - r).abs());
-                    let f0 = fr_dielectric(cos_i as f32, ETA as f32) as f64;
+                    let f0 = fr_dielectric(u.dot(n0).clamp(0.0, 1.0) as f32, ETA as f32) as f64;
                     worst[1] = worst[1].max((t.exits[0].escape as f64 - f0).abs());
                     worst[2] = worst[2].max((t.exits[1].length as f64 - e.chord(p0, d1)).abs());
                 }
