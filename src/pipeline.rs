@@ -3,7 +3,7 @@
 use crate::cameras::CameraSample;
 use crate::error::{Error, Result};
 use crate::image::{DataWindow, Image};
-use crate::integrators::path_li;
+use crate::integrators::{path_li, RayCounts};
 use crate::render::{interrupt_flag, render};
 use crate::scene::build::{build, RenderOverrides};
 use crate::scene::description::ColorSpaceName;
@@ -11,6 +11,7 @@ use crate::spectrum::SampledWavelengths;
 use glam::Vec2;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
+use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 /// How a render went.
@@ -27,6 +28,8 @@ pub struct RenderReport {
     pub render: Duration,
     /// Samples whose radiance was NaN or infinite (set to 0, as pbrt-v4).
     pub bad_samples: u64,
+    /// Rays the render traced.
+    pub rays: RayCounts,
     pub warnings: Vec<String>,
 }
 
@@ -54,6 +57,7 @@ pub fn render_file(
     let film = &built.film;
     let spp = built.sampler.samples_per_pixel();
     let bad = AtomicU64::new(0);
+    let rays = Mutex::new(RayCounts::default());
     let disable_jitter = loaded.scene.options.disable_wavelength_jitter;
     let uses_lens = built.camera.uses_lens();
     let outcome = render(
@@ -62,8 +66,8 @@ pub fn render_file(
         threads,
         show_progress,
         interrupt_flag(),
-        || built.sampler.clone(),
-        |sampler, pixel, index, acc| {
+        || (built.sampler.clone(), RayTally::new(&rays)),
+        |(sampler, tally), pixel, index, acc| {
             sampler.start_pixel_sample(pixel, index, 0);
             let lu = if disable_jitter {
                 0.5
@@ -92,7 +96,8 @@ pub fn render_file(
             let Some(camera_ray) = built.camera.generate_ray(&sample, &lambda) else {
                 return;
             };
-            let mut l = path_li(&built, &camera_ray, &mut lambda, sampler) * camera_ray.weight;
+            let mut l = path_li(&built, &camera_ray, &mut lambda, sampler, &mut tally.counts)
+                * camera_ray.weight;
             if l.has_nan() || l.0.iter().any(|v| v.is_infinite()) {
                 bad.fetch_add(1, Ordering::Relaxed);
                 l = crate::spectrum::SampledSpectrum::ZERO;
@@ -145,6 +150,29 @@ pub fn render_file(
         build: build_time,
         render: outcome.elapsed,
         bad_samples: bad.into_inner(),
+        rays: rays.into_inner().unwrap_or_else(|e| e.into_inner()),
         warnings,
     })
+}
+
+/// A render task's ray counts, added to the render's total when the task
+/// ends (one lock per task, not per ray).
+struct RayTally<'a> {
+    counts: RayCounts,
+    total: &'a Mutex<RayCounts>,
+}
+
+impl<'a> RayTally<'a> {
+    fn new(total: &'a Mutex<RayCounts>) -> Self {
+        RayTally {
+            counts: RayCounts::default(),
+            total,
+        }
+    }
+}
+
+impl Drop for RayTally<'_> {
+    fn drop(&mut self) {
+        *self.total.lock().unwrap_or_else(|e| e.into_inner()) += self.counts;
+    }
 }

@@ -40,3 +40,38 @@ fn deterministic_across_thread_counts() {
     let b = render("det2", &scene, 4, 2);
     assert_eq!(a.rgb_data(), b.rgb_data());
 }
+
+/// The render counts its rays: with nothing to hit, one closest-hit ray per
+/// camera sample and no shadow ray; with a diffuse sphere, more of both,
+/// and the same counts at any thread count.
+#[test]
+fn rays_are_counted() {
+    let dir = std::env::temp_dir().join(format!("rpbrt-test-rays-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let count = |name: &str, scene: &str, threads: usize| {
+        let path = dir.join(format!("{name}.pbrt"));
+        std::fs::write(&path, scene).unwrap();
+        let overrides = rpbrt::scene::build::RenderOverrides {
+            spp: Some(4),
+            outfile: Some(dir.join(format!("{name}.exr"))),
+            ..Default::default()
+        };
+        rpbrt::pipeline::render_file(&path, &overrides, threads, false)
+            .unwrap()
+            .rays
+    };
+    // A point light: the uniform sky is reached by BSDF samples only (as
+    // in pbrt-v4, its light samples are skipped when the BSDF's cover it).
+    let sphere = furnace("path").replace(
+        "Material",
+        "LightSource \"point\" \"point3 from\" [0 0 5]\nMaterial",
+    );
+    let (empty_scene, _) = sphere.split_at(sphere.find("LightSource \"point\"").unwrap());
+    let empty = count("empty", empty_scene, 2);
+    assert_eq!((empty.closest_hit, empty.shadow), (32 * 32 * 4, 0));
+    let one = count("sphere1", &sphere, 1);
+    let two = count("sphere2", &sphere, 2);
+    assert_eq!(one, two);
+    assert!(one.closest_hit > empty.closest_hit && one.shadow > 0, "{one:?}");
+    std::fs::remove_dir_all(&dir).ok();
+}

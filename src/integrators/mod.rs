@@ -2,4 +2,4 @@
 
 pub mod path;
 
-pub use path::path_li;
+pub use path::{path_li, RayCounts};

@@ -41,12 +41,39 @@ fn light_context(si: &SurfaceInteraction) -> LightSampleContext {
     }
 }
 
-/// Radiance arriving along the camera ray at the path's wavelengths.
+/// Rays traced, by kind (pbrt-v4's `--stats` "regular" and "shadow" ray
+/// intersection tests): what a render's time is spent on, so that two
+/// renders' times can be compared per ray (a material that lets light go
+/// on makes longer paths, not only costlier vertices).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RayCounts {
+    /// Closest-hit rays: the camera ray and each bounce's.
+    pub closest_hit: u64,
+    /// Shadow rays towards sampled lights.
+    pub shadow: u64,
+}
+
+impl RayCounts {
+    pub fn total(&self) -> u64 {
+        self.closest_hit + self.shadow
+    }
+}
+
+impl std::ops::AddAssign for RayCounts {
+    fn add_assign(&mut self, other: RayCounts) {
+        self.closest_hit += other.closest_hit;
+        self.shadow += other.shadow;
+    }
+}
+
+/// Radiance arriving along the camera ray at the path's wavelengths; the
+/// rays the path traced are added to `rays`.
 pub fn path_li(
     scene: &BuiltScene,
     camera_ray: &CameraRay,
     lambda: &mut SampledWavelengths,
     sampler: &mut Sampler,
+    rays: &mut RayCounts,
 ) -> SampledSpectrum {
     let mut ray = camera_ray.ray;
     // The camera ray's differentials hold until the first scattering
@@ -65,6 +92,7 @@ pub fn path_li(
     let mut p_b = 1.0f32;
     let mut prev_ctx: Option<LightSampleContext> = None;
     loop {
+        rays.closest_hit += 1;
         let Some((mut si, prim)) = scene.intersect(&ray, f32::INFINITY) else {
             // Escaped: infinite lights.
             for &i in &scene.infinite_lights {
@@ -138,7 +166,7 @@ pub fn path_li(
         depth += 1;
         let flags = bsdf.flags();
         if flags.is_non_specular() {
-            let ld = sample_ld(scene, &si, &bsdf, lambda, sampler, volpath, light_u);
+            let ld = sample_ld(scene, &si, &bsdf, lambda, sampler, volpath, light_u, rays);
             l += beta * ld;
         }
         prev_ctx = Some(light_context(&si));
@@ -188,6 +216,7 @@ pub fn path_li(
 
 /// Direct lighting at `si` from one sampled light, MIS-weighted against
 /// BSDF sampling (by `volpath`'s heuristic when `volpath`).
+#[allow(clippy::too_many_arguments)]
 fn sample_ld(
     scene: &BuiltScene,
     si: &SurfaceInteraction,
@@ -196,6 +225,7 @@ fn sample_ld(
     sampler: &mut Sampler,
     volpath: bool,
     light_u: Option<(f32, Vec2)>,
+    rays: &mut RayCounts,
 ) -> SampledSpectrum {
     let mut ctx = light_context(si);
     let flags = bsdf.flags();
@@ -219,7 +249,11 @@ fn sample_ld(
     ls.l.prefetch();
     let (f, p_b) = bsdf.f_and_pdf(si.wo, ls.wi, TransportMode::Radiance);
     let f = f * ls.wi.dot(si.shading.n).abs();
-    if f.is_zero() || !scene.unoccluded(si, ls.p_light, ls.p_light_error, ls.n_light) {
+    if f.is_zero() {
+        return SampledSpectrum::ZERO;
+    }
+    rays.shadow += 1;
+    if !scene.unoccluded(si, ls.p_light, ls.p_light_error, ls.n_light) {
         return SampledSpectrum::ZERO;
     }
     let l = ls.l.value(lambda);

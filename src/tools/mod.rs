@@ -5,6 +5,7 @@
 pub mod bcsdf;
 pub mod convergence;
 pub mod curvegen;
+pub mod dual_overhead;
 pub mod flip;
 pub mod heat_map;
 pub mod imgdiff;

@@ -104,7 +104,8 @@ pub fn run(cli: &RenderArgs) -> Result<(), Error> {
     }
     if cli.stats {
         println!(
-            "resolution {}x{}, {} spp, {} threads\nparse: {:.3} s\nbuild: {:.3} s\nrender: {:.3} s\nbad samples: {}",
+            "resolution {}x{}, {} spp, {} threads\nparse: {:.3} s\nbuild: {:.3} s\nrender: {:.3} s\n\
+             rays: {} closest-hit, {} shadow\nbad samples: {}",
             report.resolution.0,
             report.resolution.1,
             report.spp_completed,
@@ -112,6 +113,8 @@ pub fn run(cli: &RenderArgs) -> Result<(), Error> {
             report.parse.as_secs_f64(),
             report.build.as_secs_f64(),
             report.render.as_secs_f64(),
+            report.rays.closest_hit,
+            report.rays.shadow,
             report.bad_samples
         );
         if let Some(bytes) = super::peak_memory::peak_memory_bytes() {

@@ -11,6 +11,7 @@
 //! `docs/performance-notes.md`, which the report links to.
 
 use super::convergence::{self, curve, time_at_error, Measurement, Renderer, Run};
+use super::dual_overhead;
 use super::io_error;
 use super::plot::{Series, ORANGE};
 use super::steal::time_without_steal;
@@ -60,10 +61,14 @@ pub struct ReportArgs {
     /// Samples per pixel of the dual-model (Table 2) renders.
     #[arg(long, default_value_t = 64)]
     pub dual_spp: u32,
-    /// Rounds of the dual-model renders (each round renders every variant
+    /// Rounds of the dual-model renders (each round renders every pair
     /// once, with its own seed).
-    #[arg(long, default_value_t = 7)]
+    #[arg(long, default_value_t = 15)]
     pub dual_repeat: u32,
+    /// Measure only the dual-model table and put it in place of the one in
+    /// `--out` (the rest of the report is kept as it is).
+    #[arg(long)]
+    pub dual_only: bool,
 }
 
 /// One row of the refs README's figures table.
@@ -118,7 +123,7 @@ pub fn parse_reference_table(readme: &str) -> Vec<ReferenceRow> {
 }
 
 /// The CPU model and the number of cores this process may use.
-fn machine() -> String {
+pub(crate) fn machine() -> String {
     let model = std::fs::read_to_string("/proc/cpuinfo")
         .ok()
         .and_then(|info| {
@@ -140,7 +145,7 @@ fn machine() -> String {
 }
 
 /// The checked-out commit (with "+ changes" if the tree is dirty).
-fn commit() -> String {
+pub(crate) fn commit() -> String {
     let git = |args: &[&str]| {
         std::process::Command::new("git")
             .args(args)
@@ -165,7 +170,7 @@ fn commit() -> String {
 
 /// Today's date (UTC), `YYYY-MM-DD`, from the system clock (days to civil
 /// date: Hinnant's algorithm).
-fn today() -> String {
+pub(crate) fn today() -> String {
     let secs = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map_or(0, |d| d.as_secs()) as i64;
@@ -207,7 +212,7 @@ fn peak_memory_mb(scene: &Path, threads: usize, out: &Path) -> Option<u64> {
     })
 }
 
-fn median(mut values: Vec<f64>) -> Option<f64> {
+pub(crate) fn median(mut values: Vec<f64>) -> Option<f64> {
     values.sort_by(f64::total_cmp);
     let n = values.len();
     match n {
@@ -359,7 +364,24 @@ fn ratio_text(ratio: f64, extrapolated: bool) -> String {
     )
 }
 
+/// The dual-model table ([`dual_overhead`]).
+fn dual_model_section(args: &ReportArgs) -> Result<String, Error> {
+    dual_overhead::section(&dual_overhead::Settings {
+        spp: args.dual_spp,
+        rounds: args.dual_repeat,
+        shared: &args.shared,
+        work: &args.work,
+    })
+}
+
 pub fn run(args: &ReportArgs) -> Result<(), Error> {
+    if args.dual_only {
+        let old = std::fs::read_to_string(&args.out).map_err(io_error(&args.out))?;
+        let text = dual_overhead::splice(&old, &dual_model_section(args)?);
+        std::fs::write(&args.out, text).map_err(io_error(&args.out))?;
+        eprintln!("wrote the dual-model table into {}", args.out.display());
+        return Ok(());
+    }
     let readme_path = args.shared.join("refs/README.md");
     let readme = std::fs::read_to_string(&readme_path).map_err(io_error(&readme_path))?;
     let table = parse_reference_table(&readme);
@@ -450,276 +472,11 @@ pub fn run(args: &ReportArgs) -> Result<(), Error> {
             plot: plot_name,
         });
     }
-    let dual = dual_model_section(args, threads)?;
+    let dual = dual_model_section(args)?;
     let text = markdown(args, &results, &skipped, &dual);
     std::fs::write(&args.out, text).map_err(io_error(&args.out))?;
     eprintln!("wrote {}", args.out.display());
     Ok(())
-}
-
-/// `"float width" w` → `"float width" factor·w` throughout a scene text
-/// (the strands file writes one width per curve).
-fn scale_widths(text: &str, factor: f64) -> Result<String, Error> {
-    const KEY: &str = "\"float width\" ";
-    let mut out = String::with_capacity(text.len());
-    let mut rest = text;
-    while let Some(i) = rest.find(KEY) {
-        out.push_str(&rest[..i + KEY.len()]);
-        rest = &rest[i + KEY.len()..];
-        let end = rest.find(char::is_whitespace).unwrap_or(rest.len());
-        let width: f64 = rest[..end].parse().map_err(|_| {
-            Error::Usage(format!(
-                "scale_widths: expected a bare number after {KEY}, found {:?}",
-                &rest[..end]
-            ))
-        })?;
-        let _ = write!(out, "{}", width * factor);
-        rest = &rest[end..];
-    }
-    out.push_str(rest);
-    Ok(out)
-}
-
-/// The dual-model overhead table (the paper's Table 2 form). Variants of
-/// the shipped circular scene `pbrt-scenes/hair-dual-circular.pbrt` (pbrt-v4's
-/// hair) differ only in the material's dual-model parameters; d_diff = 1
-/// doubles the curves' width (the diffracting cylinder), so it is also
-/// compared with circular hair on strands of that doubled width: the
-/// model's own cost at equal geometry. Renders are interleaved (each seed
-/// renders every variant in turn) so that drift in the machine's speed
-/// falls on all alike.
-fn dual_model_section(args: &ReportArgs, threads: usize) -> Result<String, Error> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("pbrt-scenes");
-    let circular = root.join("hair-dual-circular.pbrt");
-    let strands = root.join("hair-dual-strands.pbrt");
-    let mut text = String::from("## Dual model overhead (the paper's Table 2)\n\n");
-    let (Ok(scene_text), Ok(strands_text)) = (
-        std::fs::read_to_string(&circular),
-        std::fs::read_to_string(&strands),
-    ) else {
-        let _ = writeln!(
-            text,
-            "Not measured: `pbrt-scenes/hair-dual-circular.pbrt` or `pbrt-scenes/hair-dual-strands.pbrt` is missing."
-        );
-        return Ok(text);
-    };
-    let work = args.work.join("dual");
-    std::fs::create_dir_all(&work).map_err(io_error(&work))?;
-    let wide_strands = work.join("strands-doubled-width.pbrt");
-    std::fs::write(&wide_strands, scale_widths(&strands_text, 2.0)?)
-        .map_err(io_error(&wide_strands))?;
-    let paper_strands = work.join("strands-1.2-width.pbrt");
-    std::fs::write(&paper_strands, scale_widths(&strands_text, 1.2)?)
-        .map_err(io_error(&paper_strands))?;
-    const MATERIAL: &str =
-        "Material \"hair\" \"float eumelanin\" [ 0.8 ] \"float beta_m\" [ 0.25 ]";
-    if !scene_text.contains(MATERIAL) {
-        return Err(Error::Usage(format!(
-            "{}: its material line changed; update the report",
-            circular.display()
-        )));
-    }
-    // (label, extra material parameters, strands file, the row that has
-    // the same geometry: what the last column divides by)
-    const ELLIPSE: &str = "\"float ellipse_a\" 30 \"float ellipse_b\" 20";
-    let variants: [(&str, String, &Path, Option<usize>); 7] = [
-        (
-            "circular (pbrt-v4's hair)",
-            String::new(),
-            &strands,
-            Some(0),
-        ),
-        (
-            "elliptical a = 30, b = 20 µm, no diffraction",
-            ELLIPSE.into(),
-            &strands,
-            Some(0),
-        ),
-        (
-            "circular, curves 1.2× wide",
-            String::new(),
-            &paper_strands,
-            None,
-        ),
-        (
-            "dual: elliptical + d_diff = 0.2, logistic diffraction (the paper's figures)",
-            format!("{ELLIPSE} \"float d_diff\" 0.2"),
-            &strands,
-            Some(2),
-        ),
-        (
-            "circular, curves 2× wide",
-            String::new(),
-            &wide_strands,
-            None,
-        ),
-        (
-            "dual: elliptical + d_diff = 1, logistic diffraction",
-            format!("{ELLIPSE} \"float d_diff\" 1"),
-            &strands,
-            Some(4),
-        ),
-        (
-            "dual: elliptical + d_diff = 1, spectral diffraction",
-            format!("{ELLIPSE} \"float d_diff\" 1 \"string diffraction\" \"spectral\""),
-            &strands,
-            Some(4),
-        ),
-    ];
-    let mut scenes = Vec::new();
-    for (i, (_, extra, strands_file, _)) in variants.iter().enumerate() {
-        let include = std::path::absolute(strands_file).map_err(io_error(strands_file))?;
-        let body = scene_text
-            .replace(MATERIAL, &format!("{MATERIAL} {extra}"))
-            .replace(
-                "Include \"hair-dual-strands.pbrt\"",
-                &format!("Include \"{}\"", include.display()),
-            );
-        let path = work.join(format!("variant-{i}.pbrt"));
-        std::fs::write(&path, body).map_err(io_error(&path))?;
-        scenes.push(path);
-    }
-    let rounds = args.dual_repeat.max(1);
-    let mut seconds: Vec<Vec<f64>> = vec![Vec::new(); variants.len()];
-    for k in 0..rounds {
-        for (i, scene) in scenes.iter().enumerate() {
-            let overrides = RenderOverrides {
-                spp: Some(args.dual_spp),
-                seed: Some(convergence::seed(k)),
-                outfile: Some(work.join(format!("variant-{i}-{k}.exr"))),
-                ..Default::default()
-            };
-            let (rendered, time, _) =
-                time_without_steal(|| render_file(scene, &overrides, threads, false));
-            rendered?;
-            seconds[i].push(time);
-        }
-    }
-    let medians: Vec<f64> = seconds
-        .iter()
-        .map(|s| median(s.clone()).unwrap_or(0.0))
-        .collect();
-    // Ratios within a round (renders minutes apart on a host whose speed
-    // drifts), then their median.
-    let ratio = |i: usize, j: usize| {
-        let per_round = seconds[i]
-            .iter()
-            .zip(&seconds[j])
-            .map(|(a, b)| a / b.max(1e-9))
-            .collect();
-        median(per_round).unwrap_or(0.0)
-    };
-    let _ = writeln!(
-        text,
-        "Whole-render seconds (median of {rounds} rounds, one seed each, {} spp, {threads} threads, steal removed), \
-         rpbrt only, on `pbrt-scenes/hair-dual-circular.pbrt` with the material's dual-model parameters varied (the \
-         paper's Table 2 compares its dual model with the circular, ray-only model of [CBTB16] in the same way). \
-         The ratios are medians of the ratios within a round. d_diff widens the curves by 1 + d_diff, so more of \
-         the image is hair; the last column compares those rows with circular hair on curves of that width, which \
-         isolates the model's own cost (diffracted light is not absorbed, so paths also last longer: the paper's \
-         §7 notes the same).\n",
-        args.dual_spp
-    );
-    let _ = writeln!(
-        text,
-        "| material | seconds | vs circular | vs circular at equal geometry |\n|---|---|---|---|"
-    );
-    for (i, (label, _, _, same_geometry)) in variants.iter().enumerate() {
-        let _ = writeln!(
-            text,
-            "| {label} | {:.2} | {:.3}× | {} |",
-            medians[i],
-            ratio(i, 0),
-            same_geometry.map_or("—".to_string(), |j| format!("{:.3}×", ratio(i, j)))
-        );
-    }
-    text.push_str(&full_head_overhead(args, threads)?);
-    Ok(text)
-}
-
-/// Samples per pixel of the full-head rows of the dual-model table.
-const FULL_HEAD_SPP: u32 = 16;
-
-/// The elliptical model's overhead on a full head of hair (the shared
-/// `hair-eumel-2-256`, ~300k curves), where tracing rays takes a larger share
-/// of a render than on the few strands of the table above: the paper's
-/// Table 2 times full hair models. Rounds interleaved as above; empty when
-/// the shared scenes are absent.
-fn full_head_overhead(args: &ReportArgs, threads: usize) -> Result<String, Error> {
-    const NAME: &str = "hair-eumel-2-256";
-    const MATERIAL: &str = "Material \"hair\"  \"float beta_m\" 0.25 \"float eumelanin\" 2";
-    let scene = args
-        .shared
-        .join("scenes/derived")
-        .join(format!("{NAME}.pbrt"));
-    let Ok(scene_text) = std::fs::read_to_string(&scene) else {
-        return Ok(String::new());
-    };
-    if !scene_text.contains(MATERIAL) {
-        return Err(Error::Usage(format!(
-            "{}: its material line changed; update the report",
-            scene.display()
-        )));
-    }
-    let folder =
-        std::path::absolute(scene.parent().unwrap_or(Path::new("."))).map_err(io_error(&scene))?;
-    // The variants live in the work folder: the scene's relative paths
-    // (its geometry and environment map) made absolute.
-    let absolute = scene_text.replace("\"../", &format!("\"{}/../", folder.display()));
-    let work = args.work.join("dual");
-    let variants = [
-        ("circular (pbrt-v4's hair)", String::new()),
-        (
-            "elliptical a = 30, b = 20 µm, no diffraction",
-            "\"float ellipse_a\" 30 \"float ellipse_b\" 20".to_string(),
-        ),
-    ];
-    let mut scenes = Vec::new();
-    for (i, (_, extra)) in variants.iter().enumerate() {
-        let path = work.join(format!("{NAME}-variant-{i}.pbrt"));
-        let body = absolute.replace(MATERIAL, &format!("{MATERIAL} {extra}"));
-        std::fs::write(&path, body).map_err(io_error(&path))?;
-        scenes.push(path);
-    }
-    let rounds = args.dual_repeat.max(1);
-    let mut seconds: [Vec<f64>; 2] = [Vec::new(), Vec::new()];
-    for k in 0..rounds {
-        for (i, path) in scenes.iter().enumerate() {
-            let overrides = RenderOverrides {
-                spp: Some(FULL_HEAD_SPP),
-                seed: Some(convergence::seed(k)),
-                outfile: Some(work.join(format!("{NAME}-variant-{i}-{k}.exr"))),
-                ..Default::default()
-            };
-            let (rendered, time, _) =
-                time_without_steal(|| render_file(path, &overrides, threads, false));
-            rendered?;
-            seconds[i].push(time);
-        }
-    }
-    let ratios: Vec<f64> = seconds[1]
-        .iter()
-        .zip(&seconds[0])
-        .map(|(a, b)| a / b.max(1e-9))
-        .collect();
-    let mut text = format!(
-        "\nOn a full head of hair (`{NAME}` of `../shared/scenes/derived/`, its material's ellipse varied, \
-         {FULL_HEAD_SPP} spp, median of {rounds} interleaved rounds, whole-render seconds):\n\n\
-         | material | seconds | vs circular |\n|---|---|---|\n"
-    );
-    for (i, (label, _)) in variants.iter().enumerate() {
-        let ratio = if i == 0 {
-            1.0
-        } else {
-            median(ratios.clone()).unwrap_or(0.0)
-        };
-        let _ = writeln!(
-            text,
-            "| {label} | {:.2} | {ratio:.3}× |",
-            median(seconds[i].clone()).unwrap_or(0.0)
-        );
-    }
-    Ok(text)
 }
 
 fn markdown(args: &ReportArgs, results: &[SceneResult], skipped: &[String], dual: &str) -> String {
@@ -985,14 +742,6 @@ fn markdown(args: &ReportArgs, results: &[SceneResult], skipped: &[String], dual
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn widths_scale() {
-        let text = "Shape \"curve\" \"float width\" 0.012\nShape \"curve\" \"float width\" 0.5 \"point3 P\" []\n";
-        let scaled = super::scale_widths(text, 2.0).unwrap();
-        assert_eq!(scaled, "Shape \"curve\" \"float width\" 0.024\nShape \"curve\" \"float width\" 1 \"point3 P\" []\n");
-        assert!(super::scale_widths("\"float width\" [ 1 ]", 2.0).is_err());
-    }
 
     #[test]
     fn reads_the_refs_table() {
