@@ -26,6 +26,8 @@ pub struct RenderReport {
     /// Building the renderable scene (shapes, lights, BVH) from it.
     pub build: Duration,
     pub render: Duration,
+    /// The process's CPU time over the render loop, where known.
+    pub render_cpu: Option<Duration>,
     /// Samples whose radiance was NaN or infinite (set to 0, as pbrt-v4).
     pub bad_samples: u64,
     /// Rays the render traced.
@@ -149,6 +151,7 @@ pub fn render_file(
         parse,
         build: build_time,
         render: outcome.elapsed,
+        render_cpu: outcome.cpu,
         bad_samples: bad.into_inner(),
         rays: rays.into_inner().unwrap_or_else(|e| e.into_inner()),
         warnings,

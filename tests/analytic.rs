@@ -72,6 +72,9 @@ fn rays_are_counted() {
     let one = count("sphere1", &sphere, 1);
     let two = count("sphere2", &sphere, 2);
     assert_eq!(one, two);
-    assert!(one.closest_hit > empty.closest_hit && one.shadow > 0, "{one:?}");
+    assert!(
+        one.closest_hit > empty.closest_hit && one.shadow > 0,
+        "{one:?}"
+    );
     std::fs::remove_dir_all(&dir).ok();
 }

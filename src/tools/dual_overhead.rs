@@ -8,17 +8,21 @@
 //! diffracting cylinder), so those variants are compared with circular hair
 //! on curves of that width: the same geometry, the model's own cost.
 //!
-//! Each comparison is a **pair** rendered at the same time: the variant and
-//! its circular twin, by two child `rpbrt --stats` processes with one render
-//! thread each (one per core of the project's 2-core machines) and the same
-//! seed. The ratio of their render times is taken within the pair, so a
-//! change in the machine's speed (other guests, the hypervisor's steal)
-//! falls on both alike; renders one after the other moved by ±2–5 %
-//! between rounds on these machines, more than the +3 % goal being
-//! measured. The pair also reports its rays: light through the diffracting
-//! ring is not absorbed, so those paths run longer (the paper's §7 says the
-//! same), which is the scene's light transport rather than the model's
-//! per-hit cost.
+//! Each comparison is a **pair**: the variant and its circular twin, two
+//! child `rpbrt --stats` processes with one thread each and the same seed,
+//! run at the same time **on the same core**, so that the kernel
+//! interleaves them a few milliseconds at a time; their CPU times over the
+//! render loop are compared. Whatever the core's speed does meanwhile
+//! (other guests on the host, the hypervisor's steal, which that clock
+//! leaves out anyway) falls on both alike. Renders one after the other, or
+//! at the same time on the two cores, differed by 5–7 % (standard
+//! deviation of the ratio of two identical renders) on the project's
+//! machines, more than the +3 % goal being measured; two identical renders
+//! sharing a core differ by 0.7 %. A round runs one pair on each core
+//! (seeds 100 + 2k and 101 + 2k). The pair also reports its rays: light
+//! through the diffracting ring is not absorbed, so those paths run longer
+//! (the paper's §7 says the same), which is the scene's light transport
+//! rather than the model's per-hit cost.
 
 use super::convergence;
 use super::io_error;
@@ -55,7 +59,8 @@ struct Pair {
 /// What a child render reports (`rpbrt --stats`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct Stats {
-    render_seconds: f64,
+    /// CPU seconds of the render loop.
+    render_cpu_seconds: f64,
     rays: RayCounts,
 }
 
@@ -74,48 +79,68 @@ pub fn section(settings: &Settings) -> Result<String, Error> {
     pairs.extend(full_head_pair(settings.shared, &work)?);
     let exe = std::env::current_exe().map_err(io_error(Path::new("<rpbrt executable>")))?;
     let rounds = settings.rounds.max(1);
-    // measured[pair][round] = (variant, circular)
+    // One pair per core at a time (unpinned, one pair at a time, where the
+    // cores cannot be told).
+    let cores: Vec<Option<usize>> = match allowed_cpus().as_slice() {
+        [] => vec![None],
+        cpus => cpus.iter().take(2).map(|&c| Some(c)).collect(),
+    };
+    // measured[pair] = (variant, circular) per round and core
     let mut measured: Vec<Vec<(Stats, Stats)>> = vec![Vec::new(); pairs.len()];
     for k in 0..rounds {
         eprintln!("dual-model table: round {} of {rounds}", k + 1);
         for (i, pair) in pairs.iter().enumerate() {
-            let out = |which: &str| work.join(format!("pair-{i}-{which}.exr"));
-            let seed = convergence::seed(k);
-            let variant = spawn(&exe, &pair.variant, pair.spp, seed, &out("variant"))?;
-            let circular = spawn(&exe, &pair.circular, pair.spp, seed, &out("circular"))?;
-            // Both are waited for before either result is looked at, so
-            // that a failure leaves no render running.
-            let (variant, circular) = (finish(variant), finish(circular));
-            measured[i].push((variant?, circular?));
+            let mut running = Vec::new();
+            for (j, &core) in cores.iter().enumerate() {
+                let seed = convergence::seed(k * cores.len() as u32 + j as u32);
+                let out = |which: &str| work.join(format!("pair-{i}-{j}-{which}.exr"));
+                let variant = spawn(&exe, &pair.variant, pair.spp, seed, &out("variant"), core);
+                let circular = spawn(&exe, &pair.circular, pair.spp, seed, &out("circular"), core);
+                running.push((variant, circular));
+            }
+            // Every child is waited for before any result is looked at,
+            // so that a failure leaves no render running.
+            let finished: Vec<_> = running
+                .into_iter()
+                .map(|(v, c)| (v.and_then(finish), c.and_then(finish)))
+                .collect();
+            for (variant, circular) in finished {
+                measured[i].push((variant?, circular?));
+            }
         }
     }
     let _ = writeln!(
         text,
-        "Measured {} at commit {} on {}. Each row is a pair of renders run **at the same time**, one per core, one \
-         render thread each, same seed: the variant and its circular twin (pbrt-v4's hair on the same curves). \
-         Time ratios are taken within a pair (so a change in the machine's speed falls on both alike), then the \
-         median over {rounds} rounds (seeds 100, 101, …), with the lowest and highest round. The strand rows are \
-         `pbrt-scenes/hair-dual-circular.pbrt` at {} spp with the material's dual-model parameters varied; d_diff \
-         widens the curves by 1 + d_diff, so those rows' twin is circular hair on curves that wide. Render seconds \
-         are the render loop's (no parse or build). The rays columns (closest-hit, shadow) compare the two renders' \
-         paths: light through the diffracting ring is not absorbed, so paths run longer (the paper's §7 notes the \
-         same) — the scene's light transport, not the model's cost per hit.\n",
+        "Measured {} at commit {} on {} (`rpbrt report --dual-only`, src/tools/dual_overhead.rs). Each row \
+         compares a variant with its circular twin (pbrt-v4's hair on the same curves): the two rendered by two \
+         processes with one thread each and the same seed, **at the same time on the same core**, so that \
+         whatever the core's speed does falls on both alike; the time is the CPU time of each render loop (no \
+         parse or build). A round runs one such pair on each of the {} cores (seeds 100, 101, …); the ratio is the \
+         median of the {} pairs' ratios, with the lowest and highest. (Two identical renders measured this way \
+         differ by 0.7 % (standard deviation); one after the other, or on the two cores at once, by 5–7 % on these \
+         machines.) The strand rows are `pbrt-scenes/hair-dual-circular.pbrt` at {} spp with the material's \
+         dual-model parameters varied; d_diff widens the curves by 1 + d_diff, so those rows' twin is circular \
+         hair on curves that wide. The rays columns (closest-hit, shadow) compare the two renders' paths: light \
+         through the diffracting ring is not absorbed, so paths run longer (the paper's §7 notes the same) — the \
+         scene's light transport, not the model's cost per hit.\n",
         super::report::today(),
         super::report::commit(),
         super::report::machine(),
+        cores.len(),
+        rounds as usize * cores.len(),
         settings.spp
     );
     let _ = writeln!(
         text,
-        "| variant | its circular twin | spp | render s (variant, median) | time vs twin | closest-hit rays vs twin | shadow rays vs twin |\n\
+        "| variant | its circular twin | spp | render CPU s (variant, median) | time vs twin | closest-hit rays vs twin | shadow rays vs twin |\n\
          |---|---|---|---|---|---|---|"
     );
     for (pair, rounds) in pairs.iter().zip(&measured) {
         let ratios: Vec<f64> = rounds
             .iter()
-            .map(|(v, c)| v.render_seconds / c.render_seconds.max(1e-9))
+            .map(|(v, c)| v.render_cpu_seconds / c.render_cpu_seconds.max(1e-9))
             .collect();
-        let seconds = median(rounds.iter().map(|(v, _)| v.render_seconds).collect());
+        let seconds = median(rounds.iter().map(|(v, _)| v.render_cpu_seconds).collect());
         let (lowest, highest) = ratios.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &r| {
             (lo.min(r), hi.max(r))
         });
@@ -143,9 +168,17 @@ fn median(values: Vec<f64>) -> f64 {
     super::report::median(values).unwrap_or(0.0)
 }
 
-/// A child `rpbrt --stats` render with one thread.
-fn spawn(exe: &Path, scene: &Path, spp: u32, seed: i32, out: &Path) -> Result<Child, Error> {
-    Command::new(exe)
+/// A child `rpbrt --stats` render with one thread, on `core` when given.
+fn spawn(
+    exe: &Path,
+    scene: &Path,
+    spp: u32,
+    seed: i32,
+    out: &Path,
+    core: Option<usize>,
+) -> Result<Child, Error> {
+    let mut command = Command::new(exe);
+    command
         .arg(scene)
         .args(["--stats", "--quiet", "--nthreads", "1", "--spp"])
         .arg(spp.to_string())
@@ -154,10 +187,54 @@ fn spawn(exe: &Path, scene: &Path, spp: u32, seed: i32, out: &Path) -> Result<Ch
         .arg("--outfile")
         .arg(out)
         .stdout(Stdio::piped())
-        .stderr(Stdio::piped())
-        .spawn()
-        .map_err(io_error(exe))
+        .stderr(Stdio::piped());
+    if let Some(core) = core {
+        pin_to(&mut command, core);
+    }
+    command.spawn().map_err(io_error(exe))
 }
+
+/// The CPUs this process may run on (empty where that cannot be told).
+#[cfg(target_os = "linux")]
+fn allowed_cpus() -> Vec<usize> {
+    // SAFETY: a zeroed cpu_set_t is a valid empty set, and the call writes
+    // at most its size.
+    let mut set: libc::cpu_set_t = unsafe { std::mem::zeroed() };
+    let size = std::mem::size_of::<libc::cpu_set_t>();
+    if unsafe { libc::sched_getaffinity(0, size, &mut set) } != 0 {
+        return Vec::new();
+    }
+    (0..libc::CPU_SETSIZE as usize)
+        .filter(|&c| unsafe { libc::CPU_ISSET(c, &set) })
+        .collect()
+}
+
+#[cfg(not(target_os = "linux"))]
+fn allowed_cpus() -> Vec<usize> {
+    Vec::new()
+}
+
+/// Makes the child run on `core` only (and its thread pools one wide:
+/// they size themselves by the CPUs the process may use).
+#[cfg(target_os = "linux")]
+fn pin_to(command: &mut Command, core: usize) {
+    use std::os::unix::process::CommandExt;
+    // SAFETY: between fork and exec the closure only fills a local set and
+    // makes one system call (async-signal-safe), allocating nothing.
+    unsafe {
+        command.pre_exec(move || {
+            let mut set: libc::cpu_set_t = std::mem::zeroed();
+            libc::CPU_SET(core, &mut set);
+            if libc::sched_setaffinity(0, std::mem::size_of::<libc::cpu_set_t>(), &set) != 0 {
+                return Err(std::io::Error::last_os_error());
+            }
+            Ok(())
+        });
+    }
+}
+
+#[cfg(not(target_os = "linux"))]
+fn pin_to(_: &mut Command, _: usize) {}
 
 /// Waits for a child render and reads its figures.
 fn finish(child: Child) -> Result<Stats, Error> {
@@ -176,13 +253,14 @@ fn finish(child: Child) -> Result<Stats, Error> {
     }
 }
 
-/// The render time and rays of `rpbrt --stats`'s summary.
+/// The render's CPU time and rays of `rpbrt --stats`'s summary.
 fn parse_stats(text: &str) -> Option<Stats> {
     let value = |key: &str| text.lines().find_map(|l| l.strip_prefix(key));
-    let render_seconds = value("render: ")?.strip_suffix(" s")?.parse().ok()?;
+    let (_, cpu) = value("render: ")?.split_once(" s (")?;
+    let render_cpu_seconds = cpu.strip_suffix(" s CPU)")?.parse().ok()?;
     let (closest, shadow) = value("rays: ")?.split_once(", ")?;
     Some(Stats {
-        render_seconds,
+        render_cpu_seconds,
         rays: RayCounts {
             closest_hit: closest.strip_suffix(" closest-hit")?.parse().ok()?,
             shadow: shadow.strip_suffix(" shadow")?.parse().ok()?,
@@ -370,11 +448,12 @@ mod tests {
     #[test]
     fn reads_the_stats_summary() {
         let text = "resolution 320x240, 64 spp, 1 threads\nparse: 0.015 s\nbuild: 0.033 s\n\
-                    render: 6.361 s\nrays: 202233 closest-hit, 33699 shadow\nbad samples: 0\npeak memory: 34 MB\n";
+                    render: 6.361 s (6.340 s CPU)\nrays: 202233 closest-hit, 33699 shadow\nbad samples: 0\n\
+                    peak memory: 34 MB\n";
         assert_eq!(
             parse_stats(text),
             Some(Stats {
-                render_seconds: 6.361,
+                render_cpu_seconds: 6.340,
                 rays: RayCounts {
                     closest_hit: 202233,
                     shadow: 33699

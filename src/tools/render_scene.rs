@@ -104,7 +104,7 @@ pub fn run(cli: &RenderArgs) -> Result<(), Error> {
     }
     if cli.stats {
         println!(
-            "resolution {}x{}, {} spp, {} threads\nparse: {:.3} s\nbuild: {:.3} s\nrender: {:.3} s\n\
+            "resolution {}x{}, {} spp, {} threads\nparse: {:.3} s\nbuild: {:.3} s\nrender: {:.3} s{}\n\
              rays: {} closest-hit, {} shadow\nbad samples: {}",
             report.resolution.0,
             report.resolution.1,
@@ -113,6 +113,9 @@ pub fn run(cli: &RenderArgs) -> Result<(), Error> {
             report.parse.as_secs_f64(),
             report.build.as_secs_f64(),
             report.render.as_secs_f64(),
+            report
+                .render_cpu
+                .map_or(String::new(), |c| format!(" ({:.3} s CPU)", c.as_secs_f64())),
             report.rays.closest_hit,
             report.rays.shadow,
             report.bad_samples

@@ -59,11 +59,11 @@ pub struct ReportArgs {
     #[arg(long)]
     pub reuse: bool,
     /// Samples per pixel of the dual-model (Table 2) renders.
-    #[arg(long, default_value_t = 64)]
+    #[arg(long, default_value_t = 32)]
     pub dual_spp: u32,
     /// Rounds of the dual-model renders (each round renders every pair
     /// once, with its own seed).
-    #[arg(long, default_value_t = 15)]
+    #[arg(long, default_value_t = 10)]
     pub dual_repeat: u32,
     /// Measure only the dual-model table and put it in place of the one in
     /// `--out` (the rest of the report is kept as it is).
