@@ -151,6 +151,7 @@ fn hair(c: &mut Criterion) {
                     InternalFresnel::Pbrt,
                     |k, exit| {
                         black_box((k, exit));
+                        1.0
                     },
                 ));
             }
