@@ -25,8 +25,8 @@
 //! frame that does not turn with the view ([`axis_from_reference`]).
 
 use super::hair::{
-    choose_lobe, divide_by_cos, sample_longitudinal, sample_trimmed_logistic, trimmed_logistic,
-    wrap_angle, HairBxDF, HairSample, P_MAX,
+    choose_lobe, divide_by_cos, sample_longitudinal, wrap_angle, HairBxDF, HairSample,
+    TrimmedLogistic, P_MAX,
 };
 use super::hair_diffraction::{
     eq36_scale, fitted_scale, sample_spectral, spectral_density, spectral_pdf, Diffraction,
@@ -130,8 +130,13 @@ enum Hit {
         pdf: [f32; P_MAX + 1],
     },
     /// Through the diffracting ring: the fibre's projected width in µm,
-    /// and ω_o's azimuth (the lobe's centre is opposite it).
-    Ring { d_um: f32, phi_o: f32 },
+    /// ω_o's azimuth (the lobe's centre is opposite it) and, for logistic
+    /// diffraction, N_diff's logistic for that width.
+    Ring {
+        d_um: f32,
+        phi_o: f32,
+        logistic: Option<TrimmedLogistic>,
+    },
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -208,11 +213,14 @@ impl DualHairBxDF {
             }
         } else {
             let phi_o = fast_atan2(wo.z, wo.y);
+            let d_um = self
+                .params
+                .width_um(phi_o - fast_atan2(self.axis.y, self.axis.x));
             Hit::Ring {
-                d_um: self
-                    .params
-                    .width_um(phi_o - fast_atan2(self.axis.y, self.axis.x)),
+                d_um,
                 phi_o,
+                logistic: (self.params.diffraction == Diffraction::Logistic)
+                    .then(|| TrimmedLogistic::new(self.params.logistic_scale(d_um))),
             }
         };
         Local {
@@ -228,34 +236,28 @@ impl DualHairBxDF {
         self.lambda.map(|l| d_um * 1000.0 / l.max(1.0))
     }
 
-    /// N_diff per wavelength at deflection Δ from straight on.
-    fn n_diff(&self, d_um: f32, delta: f32) -> SampledSpectrum {
-        match self.params.diffraction {
-            Diffraction::Logistic => SampledSpectrum::splat(trimmed_logistic(
-                delta,
-                self.params.logistic_scale(d_um),
-                -PI,
-                PI,
-            )),
-            Diffraction::Spectral => {
-                SampledSpectrum(self.k(d_um).map(|k| spectral_density(delta, k)))
+    /// N_diff per wavelength at deflection Δ from straight on, and the
+    /// density with which [`Self::sample`] picks Δ: the logistic's, or for
+    /// spectral diffraction the mixture of the wavelengths' proposals, one
+    /// picked uniformly.
+    fn n_diff(
+        &self,
+        d_um: f32,
+        logistic: &Option<TrimmedLogistic>,
+        delta: f32,
+    ) -> (SampledSpectrum, f32) {
+        match logistic {
+            Some(logistic) => {
+                let n = logistic.density(delta);
+                (SampledSpectrum::splat(n), n)
             }
-        }
-    }
-
-    /// Density of the sampled N_diff (for spectral, the mixture of the
-    /// wavelengths' proposals, one picked uniformly).
-    fn n_diff_pdf(&self, d_um: f32, delta: f32) -> f32 {
-        match self.params.diffraction {
-            Diffraction::Logistic => {
-                trimmed_logistic(delta, self.params.logistic_scale(d_um), -PI, PI)
-            }
-            Diffraction::Spectral => {
-                self.k(d_um)
-                    .iter()
-                    .map(|&k| spectral_pdf(delta, k))
-                    .sum::<f32>()
-                    / N_SPECTRUM_SAMPLES as f32
+            None => {
+                let k = self.k(d_um);
+                (
+                    SampledSpectrum(k.map(|k| spectral_density(delta, k))),
+                    k.iter().map(|&k| spectral_pdf(delta, k)).sum::<f32>()
+                        / N_SPECTRUM_SAMPLES as f32,
+                )
             }
         }
     }
@@ -304,13 +306,15 @@ impl DualHairBxDF {
                 density += pdf[LOBES] * m;
                 (f, density)
             }
-            Hit::Ring { d_um, phi_o } => {
+            Hit::Ring {
+                d_um,
+                phi_o,
+                logistic,
+            } => {
                 let delta = wrap_angle(phi_i - phi_o - PI);
                 let m = self.m_residual(l, sin_theta_i, cos_theta_i);
-                (
-                    self.n_diff(*d_um, delta) * m,
-                    self.n_diff_pdf(*d_um, delta) * m,
-                )
+                let (n, density) = self.n_diff(*d_um, logistic, delta);
+                (n * m, density * m)
             }
         }
     }
@@ -364,14 +368,16 @@ impl DualHairBxDF {
                 };
                 (s, c, phi_i)
             }
-            Hit::Ring { d_um, phi_o } => {
+            Hit::Ring {
+                d_um,
+                phi_o,
+                logistic,
+            } => {
                 let (s, c) =
                     sample_longitudinal(u, self.base.m(P_MAX).v, l.sin_theta_o, l.cos_theta_o);
-                let delta = match self.params.diffraction {
-                    Diffraction::Logistic => {
-                        sample_trimmed_logistic(uc, self.params.logistic_scale(*d_um), -PI, PI)
-                    }
-                    Diffraction::Spectral => {
+                let delta = match logistic {
+                    Some(logistic) => logistic.sample(uc),
+                    None => {
                         let scaled = uc * N_SPECTRUM_SAMPLES as f32;
                         let j = (scaled as usize).min(N_SPECTRUM_SAMPLES - 1);
                         sample_spectral((scaled - j as f32).clamp(0.0, 1.0), self.k(*d_um)[j])
@@ -698,7 +704,12 @@ mod tests {
             let b = bxdf(0.9, SampledSpectrum::ZERO, 0.3, 0.3, 0.0, p, 0.3);
             let wo = Vec3::new(0.2, 0.4, 0.89).normalize();
             let l = b.local(wo);
-            let Hit::Ring { d_um, phi_o } = l.hit else {
+            let Hit::Ring {
+                d_um,
+                phi_o,
+                logistic,
+            } = l.hit
+            else {
                 panic!("h 0.9 with d_diff 1 is in the ring")
             };
             let width = 30.0 * p.logistic_scale(d_um);
@@ -719,13 +730,14 @@ mod tests {
                     observed[bin(wrap_angle(s.wi.z.atan2(s.wi.y) - phi_o - PI))] += 1.0;
                 }
             }
-            // Expected: the φ-marginal density (n_diff_pdf), integrated.
+            // Expected: the φ-marginal density (n_diff's), integrated.
             let mut expected = vec![0.0f64; bins + 2];
             let m = 2_000_000;
             let step = 2.0 * PI / m as f32;
             for i in 0..m {
                 let delta = -PI + (i as f32 + 0.5) * step;
-                expected[bin(delta)] += (b.n_diff_pdf(d_um, delta) * step) as f64 * n as f64;
+                expected[bin(delta)] +=
+                    (b.n_diff(d_um, &logistic, delta).1 * step) as f64 * n as f64;
             }
             let chi2: f64 = observed
                 .iter()

@@ -29,13 +29,8 @@ pub struct HairLobes {
     /// M_p of R, TT and TRT: the variance v_p and the terms that follow
     /// from it (the residual shares TRT's; see [`HairBxDF::m`]).
     longitudinal: [Longitudinal; P_MAX],
-    /// Logistic scale s of N_p.
-    pub(crate) s: f32,
-    /// The logistic's mass on [−π, π] and its CDF at −π for scale s: the
-    /// trimmed logistic's normalisation, which pbrt-v4 recomputes (two
-    /// exponentials) in every evaluation and sample.
-    logistic_mass: f32,
-    logistic_cdf_low: f32,
+    /// N_p's trimmed logistic.
+    pub(crate) azimuthal: TrimmedLogistic,
     /// sin and cos of 2^k α, k = 0, 1, 2 (cuticle tilt shifts).
     sin_2k_alpha: [f32; 3],
     cos_2k_alpha: [f32; 3],
@@ -59,9 +54,7 @@ impl HairLobes {
         }
         HairLobes {
             longitudinal: v.map(Longitudinal::new),
-            s,
-            logistic_mass: logistic_cdf(PI, s) - logistic_cdf(-PI, s),
-            logistic_cdf_low: logistic_cdf(-PI, s),
+            azimuthal: TrimmedLogistic::new(s),
             sin_2k_alpha,
             cos_2k_alpha,
         }
@@ -187,21 +180,40 @@ fn logistic_cdf(x: f32, s: f32) -> f32 {
     1.0 / (1.0 + (-x / s).exp())
 }
 
+/// The logistic of scale s restricted to [−π, π] and renormalised, with its
+/// normalisation (its mass there and its CDF at −π) computed once: pbrt-v4
+/// recomputes it, two exponentials, in every evaluation and sample.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TrimmedLogistic {
+    pub(crate) s: f32,
+    mass: f32,
+    cdf_low: f32,
+}
+
+impl TrimmedLogistic {
+    pub(crate) fn new(s: f32) -> Self {
+        TrimmedLogistic {
+            s,
+            mass: logistic_cdf(PI, s) - logistic_cdf(-PI, s),
+            cdf_low: logistic_cdf(-PI, s),
+        }
+    }
+
+    /// The density at x ∈ [−π, π].
+    pub(crate) fn density(&self, x: f32) -> f32 {
+        logistic(x, self.s) / self.mass
+    }
+
+    /// Samples [`TrimmedLogistic::density`]: its CDF inverted.
+    pub(crate) fn sample(&self, u: f32) -> f32 {
+        let x = -self.s * (1.0 / (u * self.mass + self.cdf_low) - 1.0).ln();
+        x.clamp(-PI, PI)
+    }
+}
+
 /// The logistic restricted to [a, b] and renormalised.
 pub(crate) fn trimmed_logistic(x: f32, s: f32, a: f32, b: f32) -> f32 {
     logistic(x, s) / (logistic_cdf(b, s) - logistic_cdf(a, s))
-}
-
-pub(crate) fn sample_trimmed_logistic(u: f32, s: f32, a: f32, b: f32) -> f32 {
-    let mass = logistic_cdf(b, s) - logistic_cdf(a, s);
-    sample_logistic_in(u, s, (a, b), mass, logistic_cdf(a, s))
-}
-
-/// Inverts the logistic's CDF on [a, b], given its `mass` there and its
-/// CDF at a.
-fn sample_logistic_in(u: f32, s: f32, (a, b): (f32, f32), mass: f32, cdf_a: f32) -> f32 {
-    let x = -s * (1.0 / (u * mass + cdf_a) - 1.0).ln();
-    x.clamp(a, b)
 }
 
 /// An angle into [−π, π] (a bounded loop: angles here come from atan2
@@ -324,18 +336,12 @@ impl HairBxDF {
     /// pbrt-v4's trimmed logistic on [−π, π] with scale s, its
     /// normalisation computed once (the same value bit for bit).
     pub(crate) fn azimuthal_logistic(&self, x: f32) -> f32 {
-        logistic(x, self.lobes.s) / self.lobes.logistic_mass
+        self.lobes.azimuthal.density(x)
     }
 
     /// Samples [`HairBxDF::azimuthal_logistic`].
     pub(crate) fn sample_azimuthal_logistic(&self, u: f32) -> f32 {
-        sample_logistic_in(
-            u,
-            self.lobes.s,
-            (-PI, PI),
-            self.lobes.logistic_mass,
-            self.lobes.logistic_cdf_low,
-        )
+        self.lobes.azimuthal.sample(u)
     }
 
     /// Azimuthal scattering N_p around lobe p's deflection.

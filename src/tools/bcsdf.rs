@@ -133,8 +133,11 @@ impl BcsdfArgs {
 
     /// The logistic scale of the ray lobes.
     fn scale(&self) -> f32 {
-        self.logistic_scale
-            .unwrap_or_else(|| HairLobes::new(self.beta_m, self.beta_n.clamp(0.01, 1.0), 0.0).s)
+        self.logistic_scale.unwrap_or_else(|| {
+            HairLobes::new(self.beta_m, self.beta_n.clamp(0.01, 1.0), 0.0)
+                .azimuthal
+                .s
+        })
     }
 
     fn sigma_a(&self) -> f32 {
