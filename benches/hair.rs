@@ -60,6 +60,7 @@ fn make_for(kind: &str, h: f32, wo: Option<Vec3>) -> BxDF {
         mean_radius_um: 25.0,
         d_diff: if kind == "elliptical" { 0.0 } else { 0.5 },
         diffraction,
+        s_diff: None,
         variant: Variant::Exact,
         internal_fresnel: InternalFresnel::Pbrt,
     };

@@ -56,6 +56,24 @@ impl SurfaceInteraction {
         )
     }
 
+    /// A ray leaving this point in direction `d` from a point moved along
+    /// `d` by the point's error bound, for a hit in the dual hair model's
+    /// diffracting ring: a thin shell that light goes through. The usual
+    /// offset is along the normal, which on a cylinder curve turns sideways
+    /// towards the curve's edges (where the ring is) and is as long as the
+    /// curve is wide: it would start the ray up to 1.7 widths to the side,
+    /// inside a neighbouring fibre, and tilt a light's direction by more
+    /// than the ring's lobe is wide.
+    pub fn spawn_ray_through(&self, d: Vec3) -> Ray {
+        Ray::new(self.point_through(d), d, self.time)
+    }
+
+    /// This point moved along `d` by its error bound (see
+    /// [`Self::spawn_ray_through`]).
+    pub fn point_through(&self, d: Vec3) -> Vec3 {
+        self.p + d.normalize_or_zero() * self.p_error.max_element()
+    }
+
     /// A ray from this point towards `p_to` (the direction is unnormalised,
     /// so that t = 1 − ε is just short of the target).
     pub fn spawn_ray_to(&self, p_to: Vec3) -> Ray {

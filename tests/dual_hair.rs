@@ -72,6 +72,16 @@ fn invalid_dual_hair_parameters_name_their_location() {
             "3:17",
             "\"internal_fresnel\" must be one of",
         ),
+        (
+            "Material \"hair\" \"float s_diff\" 0",
+            "3:17",
+            "\"s_diff\" must be positive",
+        ),
+        (
+            "Material \"hair\" \"string diffraction\" \"spectral\" \"float s_diff\" 0.01",
+            "3:49",
+            "no meaning with \"diffraction\" \"spectral\"",
+        ),
     ];
     for (material, at, message) in cases {
         let err = build(material).expect_err(material);
@@ -92,8 +102,49 @@ fn valid_dual_hair_parameters_build() {
         "Material \"hair\" \"float ellipse_a\" 25 \"float ellipse_b\" 25 \"string internal_fresnel\" \"paper\"",
         "Material \"hair\" \"float ellipse_a\" 37.5 \"float ellipse_b\" 25 \"string diffraction\" \"spectral\" \"string variant\" \"paper\" \"float ellipse_orientation\" 30",
         "Material \"hair\" \"float d_diff\" 1",
+        "Material \"hair\" \"float d_diff\" 1 \"float s_diff\" 0.01",
     ] {
         build(material).unwrap_or_else(|e| panic!("{material}: {e}"));
+    }
+}
+
+/// The ring is a cylinder around a fibre: a hair material with d_diff > 0
+/// on a surface stops at the shape, which it names; without a ring the
+/// dual model's fibre renders on any shape, as pbrt's hair does.
+#[test]
+fn a_diffracting_ring_needs_a_curve() {
+    let text = format!(
+        "{HEADER}Material \"hair\" \"float d_diff\" 0.5\nShape \"sphere\" \"float radius\" 1\n"
+    );
+    let loaded = scene::load_text(Path::new("hair.pbrt"), &text).expect("loads");
+    let err = scene::build::build(&loaded.scene, &RenderOverrides::default())
+        .map(|_| ())
+        .expect_err("a ring on a sphere")
+        .to_string();
+    assert!(err.starts_with("hair.pbrt:4:1:"), "{err}");
+    assert!(err.contains("needs a curve, not a \"sphere\""), "{err}");
+    built("Material \"hair\" \"float ellipse_a\" 30 \"float ellipse_b\" 20\nShape \"sphere\" \"float radius\" 1\n");
+}
+
+/// A diffracting fibre outside the widths the lobe's fit and normalisation
+/// hold for (50–100 µm across) builds with one warning at `ellipse_a`;
+/// inside it, or without a ring, none.
+#[test]
+fn diffraction_outside_the_fitted_widths_warns() {
+    let warnings = |material: &str| built(&format!("{material}\n{CURVE}")).warnings;
+    let thin = warnings(
+        "Material \"hair\" \"float ellipse_a\" 10 \"float ellipse_b\" 8 \"float d_diff\" 0.5",
+    );
+    assert_eq!(thin.len(), 1, "{thin:?}");
+    assert!(thin[0].message.contains("18 µm"), "{}", thin[0].message);
+    assert!(thin[0].message.contains("50–100 µm"), "{}", thin[0].message);
+    assert!(thin[0].to_string().starts_with("hair.pbrt:3:17:"), "{}", thin[0]);
+    for quiet in [
+        "Material \"hair\" \"float ellipse_a\" 30 \"float ellipse_b\" 20 \"float d_diff\" 0.5",
+        "Material \"hair\" \"float ellipse_a\" 10 \"float ellipse_b\" 8",
+        "Material \"hair\" \"float d_diff\" 1",
+    ] {
+        assert!(warnings(quiet).is_empty(), "{quiet}");
     }
 }
 
@@ -181,4 +232,24 @@ fn constant_and_textured_roughness_give_the_same_hair_bsdf() {
             assert_eq!(constant, textured, "β_m {beta_m} {dual}");
         }
     }
+}
+
+/// `s_diff` replaces the diffraction lobe's fitted scale for every width;
+/// without it the scale follows the width (κ/D).
+#[test]
+fn s_diff_sets_the_diffraction_lobe_scale() {
+    let scale_at = |material: &str, d_um: f32| {
+        built(&format!("{material}\n{CURVE}"))
+            .materials
+            .iter()
+            .find_map(|m| m.dual_hair().copied())
+            .expect("a dual hair material")
+            .logistic_scale(d_um)
+    };
+    let set = "Material \"hair\" \"float d_diff\" 1 \"float s_diff\" 0.02";
+    assert_eq!(scale_at(set, 40.0), 0.02);
+    assert_eq!(scale_at(set, 90.0), 0.02);
+    let fitted = "Material \"hair\" \"float d_diff\" 1";
+    let (s40, s80) = (scale_at(fitted, 40.0), scale_at(fitted, 80.0));
+    assert!((s40 / s80 - 2.0).abs() < 1e-5, "{s40} {s80}");
 }

@@ -1,6 +1,7 @@
 //! A BxDF placed at a surface point: converts render-space directions to
 //! the local shading frame and back.
 
+use super::hair::Longitudinal;
 use super::{BSDFSample, BxDF, BxDFFlags, BxDFReflTransFlags, TransportMode};
 use crate::math::Frame;
 use crate::spectrum::SampledSpectrum;
@@ -42,6 +43,18 @@ impl BSDF {
 
     pub fn shading_frame(&self) -> &Frame {
         &self.shading_frame
+    }
+
+    /// At a hit in the dual hair model's diffracting ring: the fibre's
+    /// tangent (render space, unit) and the ring's longitudinal lobe
+    /// M_diff; `None` anywhere else.
+    pub(crate) fn diffracting_ring(&self) -> Option<(Vec3, Longitudinal)> {
+        match &self.bxdf {
+            BxDF::DualHair(b) => b
+                .ring_longitudinal()
+                .map(|m| (self.shading_frame.from_local(Vec3::X), m)),
+            _ => None,
+        }
     }
 
     pub fn flags(&self) -> BxDFFlags {

@@ -26,7 +26,7 @@
 
 use super::hair::{
     choose_lobe, divide_by_cos, sample_longitudinal, wrap_angle, HairBxDF, HairSample,
-    TrimmedLogistic, P_MAX,
+    Longitudinal, TrimmedLogistic, P_MAX,
 };
 use super::hair_diffraction::{
     eq36_scale, fitted_scale, sample_spectral, spectral_density, spectral_pdf, Diffraction,
@@ -49,6 +49,9 @@ pub struct DualHairParams {
     /// Outer cylinder thickness relative to the fibre, [0, 1].
     pub d_diff: f32,
     pub diffraction: Diffraction,
+    /// The logistic N_diff's scale s_diff set by the scene (the paper's
+    /// artistic control), in place of the one fitted to the width.
+    pub s_diff: Option<f32>,
     pub variant: Variant,
     pub internal_fresnel: InternalFresnel,
 }
@@ -61,6 +64,7 @@ impl DualHairParams {
             mean_radius_um: radius_um,
             d_diff: 0.0,
             diffraction: Diffraction::Logistic,
+            s_diff: None,
             variant: Variant::Exact,
             internal_fresnel: InternalFresnel::Pbrt,
         }
@@ -72,8 +76,12 @@ impl DualHairParams {
         2.0 * self.ellipse.half_width_for(phi, self.variant) * self.mean_radius_um
     }
 
-    /// The logistic N_diff's scale for a width in µm.
+    /// The logistic N_diff's scale for a width in µm: `s_diff` when the
+    /// scene sets it, else the fit (exact variant) or Eq. 36 (paper's).
     pub fn logistic_scale(&self, d_um: f32) -> f32 {
+        if let Some(s) = self.s_diff {
+            return s;
+        }
         match self.variant {
             Variant::Exact => fitted_scale(d_um),
             Variant::Paper => eq36_scale(d_um * 1e-6),
@@ -176,6 +184,19 @@ impl DualHairBxDF {
 
     pub fn params(&self) -> &DualHairParams {
         &self.params
+    }
+
+    /// Whether the hit lies in the diffracting ring (outside the fibre's
+    /// middle 1/(1 + d_diff) of h).
+    pub fn in_ring(&self) -> bool {
+        self.params.d_diff > 0.0 && self.base.h.abs() * (1.0 + self.params.d_diff) > 1.0
+    }
+
+    /// M_diff, the ring's longitudinal lobe (pbrt's M_p for p > 2), when
+    /// the hit lies in the ring: what its forward-diffracted light keeps of
+    /// θ once N_diff is taken in its narrow limit (docs/dual-model.md).
+    pub(crate) fn ring_longitudinal(&self) -> Option<Longitudinal> {
+        self.in_ring().then(|| *self.base.m(P_MAX))
     }
 
     fn local(&self, wo: Vec3) -> Local {
@@ -421,6 +442,20 @@ impl super::hair::HairScattering for DualHairBxDF {
     fn value_and_density(&self, wo: Vec3, wi: Vec3) -> (SampledSpectrum, f32) {
         DualHairBxDF::value_and_density(self, wo, wi)
     }
+
+    /// pbrt's hair calls itself glossy reflection, so a light is sampled
+    /// from a point offset towards ω_o by the curve's error bound (its
+    /// width): harmless for lobes tens of degrees wide, but it turns the
+    /// direction to a light by up to width / distance, more than the
+    /// ring's N_diff is wide. The ring, which lets light through, says so
+    /// and is sampled from the hit itself.
+    fn flags(&self) -> super::BxDFFlags {
+        if self.in_ring() {
+            super::BxDFFlags::GLOSSY_REFLECTION | super::BxDFFlags::GLOSSY_TRANSMISSION
+        } else {
+            super::BxDFFlags::GLOSSY_REFLECTION
+        }
+    }
 }
 
 #[cfg(test)]
@@ -463,6 +498,7 @@ mod tests {
             mean_radius_um: 31.25,
             d_diff,
             diffraction,
+            s_diff: None,
             variant,
             internal_fresnel: fresnel,
         }

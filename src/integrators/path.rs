@@ -9,6 +9,7 @@
 //! the power heuristic, and `volpath` draws its Russian-roulette number at
 //! every bounce where `path` draws it only when roulette applies.
 
+use super::diffraction_connection;
 use crate::bxdfs::{BxDFReflTransFlags, TransportMode, BSDF};
 use crate::cameras::CameraRay;
 use crate::interaction::SurfaceInteraction;
@@ -19,7 +20,7 @@ use crate::scene::build::BuiltScene;
 use crate::scene::build::IntegratorKind;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::textures::TextureEvalContext;
-use glam::Vec2;
+use glam::{Vec2, Vec3};
 
 /// The MIS weight of a sample drawn with density `f` against the other
 /// strategy's `g`, by the integrator's heuristic.
@@ -31,10 +32,15 @@ fn mis_weight(volpath: bool, f: f32, g: f32) -> f32 {
     }
 }
 
-fn light_context(si: &SurfaceInteraction) -> LightSampleContext {
+/// The light-sampling context at `si`. At a diffracting-ring hit the point
+/// carries no error bound: rays from it go along their direction
+/// ([`SurfaceInteraction::spawn_ray_through`]), and an area light's density
+/// is then taken along the line the path really follows, not from a point
+/// pushed a curve's width sideways.
+fn light_context(si: &SurfaceInteraction, ring: bool) -> LightSampleContext {
     LightSampleContext {
         p: si.p,
-        p_error: si.p_error,
+        p_error: if ring { Vec3::ZERO } else { si.p_error },
         n: si.n,
         ns: si.shading.n,
         time: si.time,
@@ -91,9 +97,19 @@ pub fn path_li(
     let mut eta_scale = 1.0f32;
     let mut p_b = 1.0f32;
     let mut prev_ctx: Option<LightSampleContext> = None;
+    // Light through one diffracting ring from a non-specular vertex is
+    // connected there ([`diffraction_connection`]): after such a vertex, a
+    // ring hit neither samples a light nor counts the emission its sample
+    // reaches (the same paths, made once).
+    let connect_diffraction = scene.integrator.connect_diffraction;
+    let mut ring_connected = false;
+    let mut skip_emission = false;
     loop {
         rays.closest_hit += 1;
         let Some((mut si, prim)) = scene.intersect(&ray, f32::INFINITY) else {
+            if skip_emission {
+                break;
+            }
             // Escaped: infinite lights.
             for &i in &scene.infinite_lights {
                 let light = &scene.lights[i];
@@ -111,7 +127,7 @@ pub fn path_li(
         };
         si.wo = -ray.direction.normalize();
         // Emission of an area light that was hit.
-        if let Some(light_index) = prim.area_light {
+        if let (Some(light_index), false) = (prim.area_light, skip_emission) {
             if let Light::DiffuseArea(area) = &scene.lights[light_index as usize] {
                 let le = area.l(si.n, si.wo, lambda);
                 if le.is_nonzero() {
@@ -153,6 +169,8 @@ pub fn path_li(
             // Interface: continue through the surface without counting a
             // bounce.
             specular_bounce = true;
+            ring_connected = false;
+            skip_emission = false;
             ray = si.spawn_ray(ray.direction);
             continue;
         };
@@ -165,11 +183,29 @@ pub fn path_li(
         }
         depth += 1;
         let flags = bsdf.flags();
-        if flags.is_non_specular() {
-            let ld = sample_ld(scene, &si, &bsdf, lambda, sampler, volpath, light_u, rays);
+        let in_ring = bsdf.diffracting_ring().is_some();
+        // A ring hit whose direct light the previous vertex connected.
+        let connected_ring = ring_connected && in_ring;
+        // Through a ring the path is a bounce longer: connected below the
+        // depth limit only, as the ring's own light sample would be.
+        let connect_here = connect_diffraction && depth < max_depth;
+        if flags.is_non_specular() && !connected_ring {
+            let ld = sample_ld(
+                scene,
+                &si,
+                &bsdf,
+                lambda,
+                sampler,
+                volpath,
+                light_u,
+                connect_here,
+                rays,
+            );
             l += beta * ld;
         }
-        prev_ctx = Some(light_context(&si));
+        skip_emission = connected_ring;
+        ring_connected = connect_here && flags.is_non_specular() && !connected_ring;
+        prev_ctx = Some(light_context(&si, in_ring));
 
         let wo = si.wo;
         let u = sampler.get_1d();
@@ -193,7 +229,11 @@ pub fn path_li(
         if bs.is_transmission() {
             eta_scale *= bs.eta * bs.eta;
         }
-        ray = si.spawn_ray(bs.wi);
+        ray = if in_ring {
+            si.spawn_ray_through(bs.wi)
+        } else {
+            si.spawn_ray(bs.wi)
+        };
 
         // A path that carries nothing ends here (after it, roulette would
         // only end it too).
@@ -215,7 +255,9 @@ pub fn path_li(
 }
 
 /// Direct lighting at `si` from one sampled light, MIS-weighted against
-/// BSDF sampling (by `volpath`'s heuristic when `volpath`).
+/// BSDF sampling (by `volpath`'s heuristic when `volpath`); with
+/// `connect_diffraction`, a shadow ray stopped by a diffracting ring is
+/// connected through it ([`diffraction_connection::through_ring`]).
 #[allow(clippy::too_many_arguments)]
 fn sample_ld(
     scene: &BuiltScene,
@@ -225,9 +267,11 @@ fn sample_ld(
     sampler: &mut Sampler,
     volpath: bool,
     light_u: Option<(f32, Vec2)>,
+    connect_diffraction: bool,
     rays: &mut RayCounts,
 ) -> SampledSpectrum {
-    let mut ctx = light_context(si);
+    let through = bsdf.diffracting_ring().is_some();
+    let mut ctx = light_context(si, through);
     let flags = bsdf.flags();
     // Offset the reference point to the side light can arrive from.
     if flags.is_reflective() && !flags.is_transmissive() {
@@ -249,12 +293,34 @@ fn sample_ld(
     ls.l.prefetch();
     let (f, p_b) = bsdf.f_and_pdf(si.wo, ls.wi, TransportMode::Radiance);
     let f = f * ls.wi.dot(si.shading.n).abs();
-    if f.is_zero() {
-        return SampledSpectrum::ZERO;
-    }
-    rays.shadow += 1;
-    if !scene.unoccluded(si, ls.p_light, ls.p_light_error, ls.n_light) {
-        return SampledSpectrum::ZERO;
+    if connect_diffraction {
+        // The connection's direction differs from the light's: a zero f
+        // here does not make it zero.
+        rays.shadow += 1;
+        if let Some(blocker) =
+            scene.first_blocker(si, through, ls.p_light, ls.p_light_error, ls.n_light)
+        {
+            return diffraction_connection::through_ring(
+                scene, si, bsdf, &ctx, light, &ls, p_light, &blocker, u_light, lambda, sampler,
+                rays,
+            );
+        }
+        if f.is_zero() {
+            return SampledSpectrum::ZERO;
+        }
+    } else {
+        if f.is_zero() {
+            return SampledSpectrum::ZERO;
+        }
+        rays.shadow += 1;
+        let unoccluded = if through {
+            scene.unoccluded_through(si, ls.p_light, ls.p_light_error, ls.n_light)
+        } else {
+            scene.unoccluded(si, ls.p_light, ls.p_light_error, ls.n_light)
+        };
+        if !unoccluded {
+            return SampledSpectrum::ZERO;
+        }
     }
     let l = ls.l.value(lambda);
     if l.is_zero() {

@@ -8,6 +8,7 @@
 //! | `float d_diff` | 0 | outer (diffracting) cylinder thickness relative to the fibre, [0, 1] |
 //! | `float ellipse_orientation` | 0 | major axis angle (degrees) about the fibre, from the strand's stable reference direction |
 //! | `string diffraction` | `"logistic"` | `"logistic"` (N_diff, Eq. 35) or `"spectral"` (exact sinc² per wavelength) |
+//! | `float s_diff` | fitted to the width (κ/D; Eq. 36 with `variant "paper"`) | the logistic N_diff's scale in radians, > 0 (the paper's artistic control); with `"spectral"` an error |
 //! | `string variant` | `"exact"` | `"exact"` or `"paper"` (Eq. 7, 22, 36 as printed) |
 //! | `string internal_fresnel` | `"pbrt"` (`"paper"` with `variant "paper"`) | inner interfaces' Fresnel: `"pbrt"` (each interface from its own side; pbrt's f0 for a circle) or `"paper"` (Eq. 22/24's f_p = air → hair Fresnel at the internal angle) |
 //!
@@ -66,6 +67,7 @@ pub fn read(p: &ParamSet) -> Result<Option<(DualHairParams, Vec2)>> {
     let d_diff = number("d_diff")?;
     let orientation = number("ellipse_orientation")?;
     let diffraction = choice("diffraction", &["logistic", "spectral"])?;
+    let s_diff = number("s_diff")?;
     let variant = choice("variant", &["exact", "paper"])?;
     let fresnel = choice("internal_fresnel", &["pbrt", "paper"])?;
     if a.is_none()
@@ -73,6 +75,7 @@ pub fn read(p: &ParamSet) -> Result<Option<(DualHairParams, Vec2)>> {
         && d_diff.is_none()
         && orientation.is_none()
         && diffraction.is_none()
+        && s_diff.is_none()
         && variant.is_none()
         && fresnel.is_none()
     {
@@ -121,11 +124,25 @@ pub fn read(p: &ParamSet) -> Result<Option<(DualHairParams, Vec2)>> {
         Some("spectral") => Diffraction::Spectral,
         _ => Diffraction::Logistic,
     };
+    let s_diff = match s_diff {
+        None => None,
+        Some((_, loc)) if diffraction == Diffraction::Spectral => {
+            return scene_error(
+                "\"s_diff\" is the logistic lobe's scale: it has no meaning with \"diffraction\" \"spectral\"",
+                &loc,
+            )
+        }
+        Some((s, _)) if s > 0.0 => Some(s),
+        Some((s, loc)) => {
+            return scene_error(format!("\"s_diff\" must be positive, not {s}"), &loc)
+        }
+    };
     let params = DualHairParams {
         ellipse,
         mean_radius_um,
         d_diff,
         diffraction,
+        s_diff,
         variant,
         internal_fresnel,
     };

@@ -189,6 +189,23 @@ impl Material {
         }
     }
 
+    /// The dual hair model's parameters, if the material is that model.
+    pub fn dual_hair(&self) -> Option<&DualHairParams> {
+        match self {
+            Material::Hair {
+                dual: Some((params, _)),
+                ..
+            } => Some(params),
+            _ => None,
+        }
+    }
+
+    /// Whether the material is the dual hair model with a diffracting
+    /// ring (d_diff > 0).
+    pub fn has_diffracting_ring(&self) -> bool {
+        matches!(self, Material::Hair { dual: Some((params, _)), .. } if params.d_diff > 0.0)
+    }
+
     /// Whether `bsdf` always gives a BSDF with a non-specular lobe (so a
     /// path tracer always samples a light at its hits): hair, whose lobes
     /// are all glossy.

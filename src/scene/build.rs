@@ -3,7 +3,7 @@
 //! The built scene is immutable and shared by all render threads.
 
 use super::alpha;
-use super::description::{SceneDescription, TextureValue};
+use super::description::{Entity, SceneDescription, TextureValue};
 use super::placed_shapes;
 use crate::accel::instance::{build_levels, InstanceAccel};
 use crate::accel::Bvh;
@@ -55,6 +55,11 @@ pub struct IntegratorSettings {
     /// false under `Option "disabletexturefiltering" true`, and when no
     /// texture of the scene varies (nothing to filter).
     pub texture_filtering: bool,
+    /// Whether light through the dual hair model's diffracting rings is
+    /// connected explicitly (`"bool connectdiffraction"`, an rpbrt
+    /// parameter, default true; false leaves it to the BSDF's samples):
+    /// true only where some material has a ring.
+    pub connect_diffraction: bool,
 }
 
 /// A shape with its material and emission.
@@ -149,6 +154,24 @@ impl BuiltScene {
             Best::Curve(hit, c, i) => (hit.interaction(self.shapes.curve(c).1, ray), i),
         };
         si.primitive = i as u32;
+        Some(si)
+    }
+
+    /// The first surface between a surface point and a light point (both
+    /// ends offset as in [`Self::unoccluded`]), if any.
+    /// `through`: `from` is a hit in a diffracting ring, whose rays start
+    /// along their direction ([`SurfaceInteraction::spawn_ray_through`]).
+    pub fn first_blocker(
+        &self,
+        from: &SurfaceInteraction,
+        through: bool,
+        p_to: Vec3,
+        p_to_error: Vec3,
+        n_to: Vec3,
+    ) -> Option<SurfaceInteraction> {
+        let ray = Self::shadow_ray(from, through, p_to, p_to_error, n_to);
+        let (mut si, _) = self.intersect(&ray, 1.0 - 1e-4)?;
+        si.wo = -ray.direction.normalize();
         Some(si)
     }
 
@@ -267,14 +290,48 @@ impl BuiltScene {
         p_to_error: Vec3,
         n_to: Vec3,
     ) -> bool {
-        let origin = offset_ray_origin(from.p, from.p_error, from.n, p_to - from.p);
+        !self.intersect_p(
+            &Self::shadow_ray(from, false, p_to, p_to_error, n_to),
+            1.0 - 1e-4,
+        )
+    }
+
+    /// [`Self::unoccluded`] from a hit in a diffracting ring
+    /// ([`SurfaceInteraction::spawn_ray_through`]).
+    pub fn unoccluded_through(
+        &self,
+        from: &SurfaceInteraction,
+        p_to: Vec3,
+        p_to_error: Vec3,
+        n_to: Vec3,
+    ) -> bool {
+        !self.intersect_p(
+            &Self::shadow_ray(from, true, p_to, p_to_error, n_to),
+            1.0 - 1e-4,
+        )
+    }
+
+    /// The ray from a surface point to a light point, both offset off their
+    /// surfaces (`through`: the first along the ray, for a ring hit), with
+    /// the light point at t = 1.
+    fn shadow_ray(
+        from: &SurfaceInteraction,
+        through: bool,
+        p_to: Vec3,
+        p_to_error: Vec3,
+        n_to: Vec3,
+    ) -> Ray {
+        let origin = if through {
+            from.point_through(p_to - from.p)
+        } else {
+            offset_ray_origin(from.p, from.p_error, from.n, p_to - from.p)
+        };
         let target = if n_to == Vec3::ZERO {
             p_to
         } else {
             offset_ray_origin(p_to, p_to_error, n_to, origin - p_to)
         };
-        let d = target - origin;
-        !self.intersect_p(&Ray::new(origin, d, from.time), 1.0 - 1e-4)
+        Ray::new(origin, target - origin, from.time)
     }
 }
 
@@ -378,6 +435,17 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
     for (name, m) in &scene.named_materials {
         named_index.insert(name.as_str(), materials.len() as u32);
         materials.push(Material::create(m, &textures, base)?);
+    }
+    integrator.connect_diffraction &= materials.iter().any(Material::has_diffracting_ring);
+    for (material, entity) in materials.iter().zip(
+        scene
+            .materials
+            .iter()
+            .chain(scene.named_materials.values()),
+    ) {
+        if let Some(warning) = dual_hair_width_warning(material, entity)? {
+            warnings.push(warning);
+        }
     }
 
     // Shapes, their primitives and area lights.
@@ -613,6 +681,35 @@ fn order_curve_pieces(primitives: &mut [Primitive], shapes: &mut ShapeStorage) -
     }
 }
 
+/// The fibre widths for which the diffraction lobe's width (κ/D, fitted
+/// over this range) and the spectral lobe's normalisation (k = D/λ ≥ 50
+/// over the visible range) are checked, µm.
+const DIFFRACTION_WIDTHS_UM: std::ops::RangeInclusive<f32> = 50.0..=100.0;
+
+/// A warning where a dual hair material diffracts (d_diff > 0) around a
+/// fibre whose mean diameter lies outside [`DIFFRACTION_WIDTHS_UM`].
+fn dual_hair_width_warning(material: &Material, entity: &Entity) -> Result<Option<Warning>> {
+    let Some(params) = material.dual_hair() else {
+        return Ok(None);
+    };
+    let diameter = 2.0 * params.mean_radius_um;
+    if params.d_diff == 0.0 || DIFFRACTION_WIDTHS_UM.contains(&diameter) {
+        return Ok(None);
+    }
+    let location = match entity.params.find("ellipse_a", &[pbrt_parser::ParamType::Float])? {
+        Some(param) => param.location.clone(),
+        None => entity.location.0.clone(),
+    };
+    Ok(Some(Warning {
+        message: format!(
+            "\"ellipse_a\" + \"ellipse_b\" = {diameter} µm: the diffraction lobe's width and normalisation hold for fibres {}–{} µm across",
+            DIFFRACTION_WIDTHS_UM.start(),
+            DIFFRACTION_WIDTHS_UM.end()
+        ),
+        location,
+    }))
+}
+
 fn integrator_settings(scene: &SceneDescription) -> Result<IntegratorSettings> {
     let e = &scene.integrator;
     let kind = match e.kind.as_str() {
@@ -628,6 +725,7 @@ fn integrator_settings(scene: &SceneDescription) -> Result<IntegratorSettings> {
     let max_depth = e.params.int("maxdepth", 5)?;
     let regularize = e.params.bool("regularize", false)?;
     e.params.string("lightsampler", "bvh")?;
+    let connect_diffraction = e.params.bool("connectdiffraction", true)?;
     e.params
         .report_unused(|| format!("integrator \"{}\"", e.kind))?;
     Ok(IntegratorSettings {
@@ -635,6 +733,7 @@ fn integrator_settings(scene: &SceneDescription) -> Result<IntegratorSettings> {
         max_depth,
         regularize,
         texture_filtering: !scene.options.disable_texture_filtering,
+        connect_diffraction,
     })
 }
 

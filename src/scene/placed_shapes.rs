@@ -116,6 +116,17 @@ fn place<'s>(
     }
     placed.material = material_index(&shape.material, context.named_materials, loc)?;
     let material = &context.materials[placed.material as usize];
+    // The ring is an outer cylinder around a fibre: on a surface the
+    // BSDF would shrink the fibre to the middle of h with no ring around it.
+    if material.has_diffracting_ring() && !matches!(shape.entity.kind.as_str(), "curve") {
+        return scene_error(
+            format!(
+                "a hair material with \"d_diff\" > 0 (a diffracting ring around the fibre) needs a curve, not a \"{}\" shape",
+                shape.entity.kind
+            ),
+            loc,
+        );
+    }
     placed.shapes = create_shapes(
         shape,
         &render_from_object,

@@ -92,7 +92,12 @@ const LOW_DISCREPANCY: &[Slot] = &[("pixelsamples", I), ("seed", I), ("randomiza
 const FILTER: &[Slot] = &[("xradius", F), ("yradius", F)];
 const MAX_DEPTH: &[Slot] = &[("maxdepth", I)];
 /// Read by path and volpath.
-const PATH: &[Slot] = &[("maxdepth", I), ("regularize", B), ("lightsampler", S)];
+const PATH: &[Slot] = &[
+    ("maxdepth", I),
+    ("regularize", B),
+    ("lightsampler", S),
+    ("connectdiffraction", B),
+];
 const SHAPE: &[Slot] = &[("alpha", FT)];
 const ROUGHNESS: &[Slot] = &[
     ("roughness", FT),
@@ -282,6 +287,7 @@ fn slots(category: Category, kind: &str) -> Option<[&'static [Slot]; 3]> {
             ("ellipse_a", F),
             ("ellipse_b", F),
             ("d_diff", F),
+            ("s_diff", F),
             ("ellipse_orientation", F),
             ("diffraction", S),
             ("variant", S),

@@ -66,6 +66,10 @@ pub struct BcsdfArgs {
     pub pheomelanin: f32,
     #[arg(long, default_value_t = 0.0)]
     pub d_diff: f32,
+    /// The diffraction lobe's logistic scale (radians), in place of the
+    /// one fitted to the fibre's width.
+    #[arg(long)]
+    pub s_diff: Option<f32>,
     #[arg(long, value_enum, default_value = "logistic")]
     pub diffraction: DiffractionArg,
     #[arg(long, value_enum, default_value = "exact")]
@@ -119,6 +123,7 @@ impl BcsdfArgs {
                 DiffractionArg::Logistic => Diffraction::Logistic,
                 DiffractionArg::Spectral => Diffraction::Spectral,
             },
+            s_diff: self.s_diff,
             variant,
             internal_fresnel: match (self.internal_fresnel, variant) {
                 (Some(InternalFresnelArg::Pbrt), _) | (None, Variant::Exact) => {
