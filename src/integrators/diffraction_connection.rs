@@ -41,6 +41,43 @@ use glam::{Vec2, Vec3};
 
 use super::path::RayCounts;
 
+/// A non-specular vertex whose light samples are connected through rings:
+/// the path integrator asks it, when the ring hit after it sends its own
+/// sample to a light, whether the connection covers that light.
+#[derive(Clone, Copy, Debug)]
+pub struct ConnectionOrigin {
+    /// Where its lights are sampled from.
+    pub ctx: LightSampleContext,
+}
+
+impl ConnectionOrigin {
+    /// Whether [`through_ring`] covers the light that reaches this vertex
+    /// through one ring from light `light_index`, reached at `emitter` (an
+    /// area light's point) or in direction `direction` (an infinite
+    /// light): whenever the light can be sampled from here towards it.
+    /// Where it cannot (an infinite light that BSDF sampling alone covers,
+    /// as pbrt-v4's uniform one does) the path tracer's own sample counts.
+    /// Whether the straight shadow ray would meet a ring is not asked: the
+    /// finite lobe's paths land beside the limit's (by its width times the
+    /// distance), and which of the two a path is would be a coin toss at
+    /// every ring's edge; what the limit misses there is approximation 3
+    /// of docs/dual-model.md.
+    pub fn covers(
+        &self,
+        scene: &BuiltScene,
+        light_index: usize,
+        emitter: Option<&SurfaceInteraction>,
+        direction: Vec3,
+    ) -> bool {
+        let toward = match emitter {
+            Some(z) => (z.p - self.ctx.p).normalize_or_zero(),
+            None => direction.normalize_or_zero(),
+        };
+        scene.light_sampler.pmf(&self.ctx, light_index) > 0.0
+            && scene.lights[light_index].pdf_li(&self.ctx, toward, &scene.shapes, true) > 0.0
+    }
+}
+
 /// The ring at a hit (its tangent and M_diff), if the hit lies in a
 /// diffracting ring.
 fn ring_at(

@@ -9,7 +9,7 @@
 //! the power heuristic, and `volpath` draws its Russian-roulette number at
 //! every bounce where `path` draws it only when roulette applies.
 
-use super::diffraction_connection;
+use super::diffraction_connection::{self, ConnectionOrigin};
 use crate::bxdfs::{BxDFReflTransFlags, TransportMode, BSDF};
 use crate::cameras::CameraRay;
 use crate::interaction::SurfaceInteraction;
@@ -102,18 +102,28 @@ pub fn path_li(
     // ring hit neither samples a light nor counts the emission its sample
     // reaches (the same paths, made once).
     let connect_diffraction = scene.integrator.connect_diffraction;
+    // The last non-specular vertex, while its connections cover the ring
+    // hit that follows it (and that ring's sample after it).
+    let mut connected_from: Option<ConnectionOrigin> = None;
     let mut ring_connected = false;
     let mut skip_emission = false;
     loop {
         rays.closest_hit += 1;
         let Some((mut si, prim)) = scene.intersect(&ray, f32::INFINITY) else {
-            if skip_emission {
-                break;
-            }
             // Escaped: infinite lights.
             for &i in &scene.infinite_lights {
                 let light = &scene.lights[i];
                 let le = light.le(&ray, lambda);
+                if skip_emission {
+                    // Through a ring: counted here only where the
+                    // connection could not have made the path.
+                    if let Some(origin) = &connected_from {
+                        if !origin.covers(scene, i, None, ray.direction) {
+                            l += beta * le;
+                        }
+                    }
+                    continue;
+                }
                 match (&prev_ctx, depth == 0 || specular_bounce) {
                     (Some(ctx), false) => {
                         let p_l = scene.light_sampler.pmf(ctx, i)
@@ -127,10 +137,17 @@ pub fn path_li(
         };
         si.wo = -ray.direction.normalize();
         // Emission of an area light that was hit.
-        if let (Some(light_index), false) = (prim.area_light, skip_emission) {
+        if let Some(light_index) = prim.area_light {
             if let Light::DiffuseArea(area) = &scene.lights[light_index as usize] {
                 let le = area.l(si.n, si.wo, lambda);
-                if le.is_nonzero() {
+                if le.is_nonzero() && skip_emission {
+                    let origin = connected_from.as_ref();
+                    if origin.is_some_and(|o| {
+                        !o.covers(scene, light_index as usize, Some(&si), si.wo)
+                    }) {
+                        l += beta * le;
+                    }
+                } else if le.is_nonzero() {
                     match (&prev_ctx, depth == 0 || specular_bounce) {
                         (Some(ctx), false) => {
                             let light = &scene.lights[light_index as usize];
@@ -205,6 +222,11 @@ pub fn path_li(
         }
         skip_emission = connected_ring;
         ring_connected = connect_here && flags.is_non_specular() && !connected_ring;
+        if ring_connected {
+            connected_from = Some(ConnectionOrigin {
+                ctx: nee_context(&si, &bsdf),
+            });
+        }
         prev_ctx = Some(light_context(&si, in_ring));
 
         let wo = si.wo;
@@ -254,6 +276,19 @@ pub fn path_li(
     l
 }
 
+/// Where lights are sampled from at `si`: offset to the side light can
+/// arrive from when the BSDF only reflects or only transmits.
+fn nee_context(si: &SurfaceInteraction, bsdf: &BSDF) -> LightSampleContext {
+    let mut ctx = light_context(si, bsdf.diffracting_ring().is_some());
+    let flags = bsdf.flags();
+    if flags.is_reflective() && !flags.is_transmissive() {
+        ctx.p = crate::math::offset_ray_origin(si.p, si.p_error, si.n, si.wo);
+    } else if flags.is_transmissive() && !flags.is_reflective() {
+        ctx.p = crate::math::offset_ray_origin(si.p, si.p_error, si.n, -si.wo);
+    }
+    ctx
+}
+
 /// Direct lighting at `si` from one sampled light, MIS-weighted against
 /// BSDF sampling (by `volpath`'s heuristic when `volpath`); with
 /// `connect_diffraction`, a shadow ray stopped by a diffracting ring is
@@ -271,14 +306,7 @@ fn sample_ld(
     rays: &mut RayCounts,
 ) -> SampledSpectrum {
     let through = bsdf.diffracting_ring().is_some();
-    let mut ctx = light_context(si, through);
-    let flags = bsdf.flags();
-    // Offset the reference point to the side light can arrive from.
-    if flags.is_reflective() && !flags.is_transmissive() {
-        ctx.p = crate::math::offset_ray_origin(si.p, si.p_error, si.n, si.wo);
-    } else if flags.is_transmissive() && !flags.is_reflective() {
-        ctx.p = crate::math::offset_ray_origin(si.p, si.p_error, si.n, -si.wo);
-    }
+    let ctx = nee_context(si, bsdf);
     let (u, u_light) = light_u.unwrap_or_else(|| (sampler.get_1d(), sampler.get_2d()));
     let Some((light_index, p_light)) = scene.light_sampler.sample(&ctx, u) else {
         return SampledSpectrum::ZERO;

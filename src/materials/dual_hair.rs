@@ -6,11 +6,19 @@
 //! |---|---|---|
 //! | `float ellipse_a`, `float ellipse_b` | — (circular) | semi-major and semi-minor axes in µm, given together, a ≥ b > 0 |
 //! | `float d_diff` | 0 | outer (diffracting) cylinder thickness relative to the fibre, [0, 1] |
-//! | `float ellipse_orientation` | 0 | major axis angle (degrees) about the fibre, from the strand's stable reference direction |
+//! | `float ellipse_orientation` | 0 | major axis angle (degrees) about the fibre, from the strand's reference direction across it (below) |
+//! | `vector3 ellipse_reference` | — | for cylinder and flat curves: the reference is this world-space direction projected onto the fibre's cross-section plane at each point |
+//! | `bool ellipse_random` | false | for cylinder and flat curves: each strand's reference is turned by its own angle, drawn from the strand (deterministic), as real hair's fibres are not lined up |
 //! | `string diffraction` | `"logistic"` | `"logistic"` (N_diff, Eq. 35) or `"spectral"` (exact sinc² per wavelength) |
 //! | `float s_diff` | fitted to the width (κ/D; Eq. 36 with `variant "paper"`) | the logistic N_diff's scale in radians, > 0 (the paper's artistic control); with `"spectral"` an error |
 //! | `string variant` | `"exact"` | `"exact"` or `"paper"` (Eq. 7, 22, 36 as printed) |
 //! | `string internal_fresnel` | `"pbrt"` (`"paper"` with `variant "paper"`) | inner interfaces' Fresnel: `"pbrt"` (each interface from its own side; pbrt's f0 for a circle) or `"paper"` (Eq. 22/24's f_p = air → hair Fresnel at the internal angle) |
+//!
+//! The reference across the fibre: on a ribbon its normal; on a cylinder
+//! or flat curve `ellipse_reference` projected, or without it a frame
+//! carried along the strand without twist from a start that the strand's
+//! first tangent fixes (turned by a per-strand angle with `ellipse_random`;
+//! without either, the start has no meaning a scene can use).
 //!
 //! Normalisation (paper §7.2): σ_a (or melanin) is absorption per mean
 //! semi-axis (a + b)/2, so an a = 30, b = 20 µm fibre absorbs like a
@@ -28,8 +36,53 @@ use crate::bxdfs::hair_diffraction::Diffraction;
 use crate::bxdfs::hair_ellipse::{Ellipse, InternalFresnel, Variant};
 use crate::error::{scene_error, Result};
 use crate::scene::params::ParamSet;
-use glam::Vec2;
+use glam::{Vec2, Vec3};
 use pbrt_parser::ParamType;
+
+/// Where a cylinder or flat strand's reference across the fibre comes
+/// from (ribbons use their normal).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct AxisFrame {
+    /// `vector3 ellipse_reference`, world space.
+    pub reference: Option<Vec3>,
+    /// `bool ellipse_random`.
+    pub random: bool,
+}
+
+/// The fibre's [`AxisFrame`] parameters.
+pub fn read_axis_frame(p: &ParamSet) -> Result<AxisFrame> {
+    let random_param = p.find("ellipse_random", &[ParamType::Bool])?;
+    let random = p.bool("ellipse_random", false)?;
+    let reference = match p.find("ellipse_reference", &[ParamType::Vector3])? {
+        None => None,
+        Some(param) => match param.numbers() {
+            [x, y, z] => {
+                let v = Vec3::new(*x as f32, *y as f32, *z as f32);
+                if !v.is_finite() || v.length_squared() == 0.0 {
+                    return scene_error(
+                        "\"ellipse_reference\" must be a finite, non-zero direction",
+                        &param.location,
+                    );
+                }
+                if random {
+                    let at = random_param.map_or(&param.location, |r| &r.location);
+                    return scene_error(
+                        "\"ellipse_random\" and \"ellipse_reference\" exclude each other: the reference fixes every strand's axis",
+                        at,
+                    );
+                }
+                Some(v)
+            }
+            _ => {
+                return scene_error(
+                    "\"ellipse_reference\" takes one direction",
+                    &param.location,
+                )
+            }
+        },
+    };
+    Ok(AxisFrame { reference, random })
+}
 
 /// Radius of the circular fibre when no ellipse is given, µm.
 const DEFAULT_RADIUS_UM: f32 = 25.0;

@@ -108,6 +108,8 @@ pub enum Material {
         /// The dual model's parameters and ellipse orientation (cos, sin);
         /// `None` is pbrt-v4's hair.
         dual: Option<(DualHairParams, glam::Vec2)>,
+        /// Where a strand's reference across the fibre comes from.
+        axis_frame: dual_hair::AxisFrame,
     },
     CoatedDiffuse {
         reflectance: SpectrumTexture,
@@ -196,6 +198,15 @@ impl Material {
                 dual: Some((params, _)),
                 ..
             } => Some(params),
+            _ => None,
+        }
+    }
+
+    /// Where an elliptical fibre's strands take their reference across the
+    /// fibre from, if the material needs one ([`Self::needs_fibre_frame`]).
+    pub fn axis_frame(&self) -> Option<&dual_hair::AxisFrame> {
+        match self {
+            Material::Hair { axis_frame, .. } if self.needs_fibre_frame() => Some(axis_frame),
             _ => None,
         }
     }
@@ -362,6 +373,7 @@ impl Material {
                     alpha,
                     lobes,
                     dual: dual_hair::read(p)?,
+                    axis_frame: dual_hair::read_axis_frame(p)?,
                 }
             }
             other => return scene_error(format!("material \"{other}\" is not supported yet"), loc),
@@ -432,6 +444,7 @@ impl Material {
                 alpha,
                 lobes,
                 dual,
+                ..
             } => {
                 let bn = beta_n.evaluate(ctx).clamp(0.01, 1.0);
                 // Precedence as pbrt-v4: σa, then reflectance, then melanin.

@@ -12,6 +12,7 @@ use super::instancing::ShapePlacement;
 use crate::error::{scene_error, Error, Result};
 use crate::materials::Material;
 use crate::math::Transform;
+use crate::shapes::curve_frame::{strand_angle, FibreFrame};
 use crate::shapes::{create_shapes, Shape, ShapeStorage};
 use crate::textures::{FloatTexture, NamedTextures};
 use pbrt_parser::{Location as FileLoc, Warning};
@@ -142,8 +143,19 @@ fn place<'s>(
     if widening != 1.0 {
         storage.scale_curve_widths(&placed.shapes, widening);
     }
-    if material.needs_fibre_frame() {
-        storage.set_fibre_frames(&placed.shapes);
+    if let Some(axis) = material.axis_frame() {
+        let frame = match (axis.reference, axis.random) {
+            (Some(v), _) => FibreFrame::Toward(
+                context
+                    .render_from_world
+                    .to_mat4()
+                    .transform_vector3(v)
+                    .normalize(),
+            ),
+            (None, true) => FibreFrame::Turned(strand_angle(loc.offset)),
+            (None, false) => FibreFrame::Transported,
+        };
+        storage.set_fibre_frames(&placed.shapes, frame);
     }
     placed.area_light = match shape.area_light {
         Some(_) if matches!(material, Material::Interface) => {

@@ -289,6 +289,8 @@ fn slots(category: Category, kind: &str) -> Option<[&'static [Slot]; 3]> {
             ("d_diff", F),
             ("s_diff", F),
             ("ellipse_orientation", F),
+            ("ellipse_reference", V3),
+            ("ellipse_random", B),
             ("diffraction", S),
             ("variant", S),
             ("internal_fresnel", S),

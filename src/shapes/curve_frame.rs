@@ -3,13 +3,15 @@
 //! view (pbrt's curve frame faces the ray and would turn the ellipse with
 //! the camera).
 //!
-//! Ribbons have one: their normal. Other curves get a rotation-minimising
+//! Ribbons have one: their normal. Other curves get one of [`FibreFrame`]:
+//! a scene direction projected across the fibre, or a rotation-minimising
 //! (parallel-transported) frame computed once per strand at build time by
 //! the double-reflection method (Wang, Jüttler, Zheng & Liu 2008), started
-//! from a direction fixed by the first tangent, sampled at each segment's
-//! ends and carried across segments, so it is continuous and twist-free
-//! along the strand. At a hit it is interpolated; the material takes its
-//! part across the fibre.
+//! from a direction fixed by the first tangent (turned by an angle drawn
+//! per strand for `Random`), sampled at each segment's ends and carried
+//! across segments, so it is continuous and twist-free along the strand.
+//! At a hit it is interpolated; the material takes its part across the
+//! fibre.
 
 use super::curve::{evaluate_bezier, CurveSegment, CurveType};
 use crate::math::frame::coordinate_system;
@@ -19,12 +21,57 @@ use glam::Vec3;
 /// turns little over a step).
 const STEPS: usize = 8;
 
+/// Where a non-ribbon strand's reference across the fibre comes from.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum FibreFrame {
+    /// Transported from a direction that the first tangent fixes: steady
+    /// along the strand, but its start means nothing to a scene's author.
+    Transported,
+    /// A direction (render space) projected across the fibre at each
+    /// point: `vector3 ellipse_reference`.
+    Toward(Vec3),
+    /// Transported from a start turned about the first tangent by this
+    /// angle (radians), drawn per strand: real hair's fibres are not lined
+    /// up.
+    Turned(f32),
+}
+
+/// An angle in [0, 2π) drawn for the strand whose `Shape` directive starts
+/// at byte `offset` of its file (deterministic, independent of the build's
+/// order).
+pub fn strand_angle(offset: usize) -> f32 {
+    // SplitMix64's finaliser: consecutive offsets give unrelated angles.
+    let mut z = (offset as u64).wrapping_add(0x9e37_79b9_7f4a_7c15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    z ^= z >> 31;
+    (z >> 40) as f32 / (1u64 << 24) as f32 * std::f32::consts::TAU
+}
+
 /// Sets `reference` at both ends of the strand's consecutive segments.
-pub fn transport(segments: &mut [CurveSegment]) {
+pub fn set_frame(segments: &mut [CurveSegment], frame: FibreFrame) {
+    match frame {
+        FibreFrame::Transported => transport(segments, 0.0),
+        FibreFrame::Turned(angle) => transport(segments, angle),
+        FibreFrame::Toward(direction) => {
+            for seg in segments.iter_mut() {
+                for (k, u) in [(0, 0.0), (1, 1.0)] {
+                    seg.reference[k] = orthogonal(direction, point_and_tangent(seg, u).1);
+                }
+            }
+        }
+    }
+}
+
+/// The transported frame, its start turned by `angle` about the first
+/// tangent.
+fn transport(segments: &mut [CurveSegment], angle: f32) {
     let Some(first) = segments.first() else {
         return;
     };
-    let mut r = coordinate_system(point_and_tangent(first, 0.0).1).0;
+    let t0 = point_and_tangent(first, 0.0).1;
+    let (a, b) = coordinate_system(t0);
+    let mut r = a * angle.cos() + b * angle.sin();
     for seg in segments.iter_mut() {
         // Segments may meet at a kink: start ⟂ this segment's tangent.
         let (mut x, mut t) = point_and_tangent(seg, 0.0);
@@ -118,7 +165,7 @@ mod tests {
                 segment([p(a0), p(a0) + k * dp(a0), p(a1) - k * dp(a1), p(a1)])
             })
             .collect();
-        transport(&mut segs);
+        transport(&mut segs, 0.0);
         for w in segs.windows(2) {
             assert!((w[0].reference[1] - w[1].reference[0]).length() < 1e-6);
         }
@@ -137,7 +184,44 @@ mod tests {
             assert!(across > 0.9, "{across}");
         }
         let mut straight = vec![segment([Vec3::ZERO, Vec3::X, 2.0 * Vec3::X, 3.0 * Vec3::X]); 3];
-        transport(&mut straight);
+        transport(&mut straight, 0.0);
         assert!((straight[0].reference[0] - straight[2].reference[1]).length() < 1e-6);
+    }
+
+    /// `Toward`: at each end the reference is the direction's part across
+    /// the tangent, whatever the strand's shape.
+    #[test]
+    fn reference_direction_is_projected_across_the_fibre() {
+        let mut bent = vec![segment([
+            Vec3::ZERO,
+            Vec3::new(1.0, 0.0, 0.0),
+            Vec3::new(1.0, 1.0, 0.0),
+            Vec3::new(1.0, 2.0, 0.0),
+        ])];
+        set_frame(&mut bent, FibreFrame::Toward(Vec3::new(0.0, 1.0, 1.0)));
+        // Tangent +x at the start: (0, 1, 1) is already across it.
+        let s = std::f32::consts::FRAC_1_SQRT_2;
+        assert!((bent[0].reference[0] - Vec3::new(0.0, s, s)).length() < 1e-5);
+        // Tangent +y at the end: only z is across it.
+        assert!((bent[0].reference[1] - Vec3::Z).length() < 1e-5);
+    }
+
+    /// `Turned`: the start turns about the first tangent by the angle, and
+    /// strands' angles are spread over the circle.
+    #[test]
+    fn turned_frames_start_at_their_angle() {
+        let straight = segment([Vec3::ZERO, Vec3::X, 2.0 * Vec3::X, 3.0 * Vec3::X]);
+        let mut a = vec![straight.clone()];
+        let mut b = vec![straight];
+        set_frame(&mut a, FibreFrame::Turned(0.0));
+        set_frame(&mut b, FibreFrame::Turned(1.0));
+        let cos = a[0].reference[0].dot(b[0].reference[0]);
+        assert!((cos - 1.0f32.cos()).abs() < 1e-5, "{cos}");
+        let angles: Vec<f32> = (0..4000).map(|i| strand_angle(100 * i)).collect();
+        for quarter in 0..4 {
+            let lo = quarter as f32 * std::f32::consts::FRAC_PI_2;
+            let n = angles.iter().filter(|&&x| x >= lo && x < lo + std::f32::consts::FRAC_PI_2).count();
+            assert!((900..1100).contains(&n), "{quarter}: {n}");
+        }
     }
 }

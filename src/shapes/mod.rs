@@ -157,7 +157,7 @@ impl ShapeStorage {
     /// Gives the strand made of the curve pieces `shapes` (one `Shape
     /// "curve"`: consecutive segments) its view-independent frame, for a
     /// material that orients the fibre by it (`curve_frame`).
-    pub fn set_fibre_frames(&mut self, shapes: &[Shape]) {
+    pub fn set_fibre_frames(&mut self, shapes: &[Shape], frame: curve_frame::FibreFrame) {
         let mut segments = shapes.iter().filter_map(|shape| match shape {
             Shape::Curve(c) => Some(self.curve_pieces[*c as usize].segment() as usize),
             _ => None,
@@ -167,7 +167,7 @@ impl ShapeStorage {
         };
         let last = segments.next_back().unwrap_or(first);
         let strand = &mut self.curve_segments[first..=last];
-        curve_frame::transport(strand);
+        curve_frame::set_frame(strand, frame);
         for segment in strand {
             segment.fibre_frame = true;
         }
