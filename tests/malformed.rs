@@ -13,7 +13,12 @@ const CASES: &[(&str, &str, &str)] = &[
     ("WorldBegin\nShape \"sphere\" \"float radius\" 2x", "2:31", "bad number \"2x\""),
     ("Translate 1 2 nan", "1:1", "expected 3 numbers, found 2"),
     ("WorldBegin\n[ 1 2 ]", "2:1", "expected a directive, found \"[\""),
-    ("WorldBegin\nShape \"sphere\" \"float radius\" [ 1 2", "2:36", "unexpected end of file: expected ']'"),
+    ("WorldBegin\nShape \"sphere\" \"float radius\" [ 1 2", "2:31", "'[' is never closed: the file ends at line 2, column 36 with no ']'"),
+    ("WorldBegin\nShape \"sphere\" \"float radius\" [ 1\n\n", "2:31", "'[' is never closed: the file ends at line 4, column 1"),
+    ("WorldBegin\nShape \"sphere\" \"float radius\" [ 1\n\nAttributeBegin\n", "4:1", "expected a value or ']', found \"AttributeBegin\" (in the list that '[' opens at line 2, column 31)"),
+    ("WorldBegin\nShape \"x\" \"string a\" [ \"b\"\n  \"float r\" [ 1 ]", "3:13", "found \"[\" (in the list that '[' opens at line 2, column 22)"),
+    ("Translate [ 1 2 3\nWorldBegin", "2:1", "expected a number or ']', found \"WorldBegin\" (in the list that '[' opens at line 1, column 11)"),
+    ("LookAt [ 0 0 1  0 0 0  0 1 0\n", "1:8", "'[' is never closed: the file ends at line 2, column 1"),
     // Parameter declarations and values.
     ("WorldBegin\nShape \"sphere\" \"float\" 1", "2:16", "malformed parameter declaration \"float\""),
     ("WorldBegin\nShape \"sphere\" \"floaty radius\" 1", "2:16", "unknown parameter type \"floaty\""),

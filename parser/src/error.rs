@@ -56,6 +56,20 @@ pub enum ErrorKind {
     InvalidUtf8,
     #[error("unexpected end of file: expected {0}")]
     UnexpectedEof(&'static str),
+    /// A `[` with no `]` before the end of the file, reported at the `[`.
+    /// `to_end` is the number of bytes from the `[` to the end of the file:
+    /// where the file ends is resolved to line:col only when printed.
+    #[error("'[' is never closed")]
+    UnclosedBracket { to_end: usize },
+    /// Something other than a value or `]` inside a `[` list (often a
+    /// missing `]`). `back` is the number of bytes back to the `[`, whose
+    /// line:col is printed with the error.
+    #[error("expected {expected}, found {found}")]
+    NotInList {
+        expected: &'static str,
+        found: String,
+        back: usize,
+    },
 }
 
 /// A parse error at a location.
@@ -71,10 +85,41 @@ impl ParseError {
     }
 }
 
+impl ParseError {
+    /// `line L, column C` of the byte at `offset` in the error's file.
+    fn line_column(&self, offset: usize) -> String {
+        let at = Location::new(self.location.file.clone(), offset);
+        match at.resolve() {
+            Some(lc) => format!("line {}, column {}", lc.line, lc.column),
+            None => format!("byte {offset}"),
+        }
+    }
+
+    /// What the message adds about another position: where the file ends
+    /// for an unclosed `[`, where the list began for a bad list element.
+    fn note(&self) -> Option<String> {
+        let offset = self.location.offset;
+        match self.kind {
+            ErrorKind::UnclosedBracket { to_end } => Some(format!(
+                ": the file ends at {} with no ']'",
+                self.line_column(offset + to_end)
+            )),
+            ErrorKind::NotInList { back, .. } => Some(format!(
+                " (in the list that '[' opens at {})",
+                self.line_column(offset.saturating_sub(back))
+            )),
+            _ => None,
+        }
+    }
+}
+
 impl fmt::Display for ParseError {
     /// `file:line:col: message`, then the offending line with a caret.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{}: {}", self.location, self.kind)?;
+        if let Some(note) = self.note() {
+            f.write_str(&note)?;
+        }
         if let Some(excerpt) = self.location.excerpt() {
             write!(f, "\n{excerpt}")?;
         }

@@ -194,6 +194,7 @@ fn fixed_numbers<'a, const N: usize>(
     directive: &'static str,
 ) -> PResult<'a, [f64; N]> {
     let mut rest = lexer::skip_space(input);
+    let open = rest;
     let bracketed = rest.first() == Some(&b'[');
     if bracketed {
         rest = lexer::skip_space(&rest[1..]);
@@ -209,8 +210,11 @@ fn fixed_numbers<'a, const N: usize>(
         rest = lexer::skip_space(r);
     }
     if bracketed {
+        if rest.is_empty() {
+            return fail(open, param::unclosed_bracket(open));
+        }
         if rest.first() != Some(&b']') {
-            return Err(expected(rest, "a number or ']'"));
+            return fail(rest, param::not_in_list(open, rest, "a number or ']'"));
         }
         rest = &rest[1..];
     }

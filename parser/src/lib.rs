@@ -256,6 +256,70 @@ mod tests {
     }
 
     #[test]
+    fn an_unclosed_bracket_is_reported_where_it_opens() {
+        let text = "WorldBegin\nShape \"sphere\" \"float radius\" [ 1\n# no bracket\n";
+        let e = parse_all(text).unwrap_err();
+        assert_eq!(e.location.to_string(), "<test>:2:31");
+        assert_eq!(
+            e.kind,
+            ErrorKind::UnclosedBracket {
+                to_end: text.len() - text.find('[').unwrap()
+            }
+        );
+        let printed = e.to_string();
+        assert!(
+            printed.starts_with(
+                "<test>:2:31: '[' is never closed: the file ends at line 4, column 1 with no ']'"
+            ),
+            "{printed}"
+        );
+        // The excerpt shows the bracket's line with a caret under it.
+        assert!(
+            printed.ends_with(&format!("\n    {}^", " ".repeat(30))),
+            "{printed}"
+        );
+        // Directives with a fixed count of numbers too.
+        let e = parse_all("Translate [ 1 2 3").unwrap_err();
+        assert_eq!(e.location.to_string(), "<test>:1:11");
+        assert!(e.to_string().contains("line 1, column 18"), "{e}");
+        // Strings and bools.
+        for text in ["Shape \"x\" \"string a\" [ \"b\"", "Option \"b\" [ true"] {
+            let e = parse_all(text).unwrap_err();
+            assert!(
+                matches!(e.kind, ErrorKind::UnclosedBracket { .. }),
+                "{text}: {e}"
+            );
+        }
+    }
+
+    #[test]
+    fn an_unclosed_bracket_is_found_across_window_refills() {
+        // The '[' lies in the first window, the end of the file two
+        // windows later: both positions are still right.
+        let dir = std::env::temp_dir().join(format!("pbrt-parser-bracket-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("unclosed.pbrt");
+        let mut text = String::from("WorldBegin\nShape \"trianglemesh\"\n  \"point3 P\" [\n");
+        let mut lines = 3;
+        while text.len() < 2 * (1 << 20) + 777 {
+            text.push_str("0.25 1 -3e-2 4 5 6 7 8 9\n");
+            lines += 1;
+        }
+        std::fs::write(&path, &text).unwrap();
+        let e = Parser::open(&path)
+            .unwrap()
+            .find_map(|d| d.err())
+            .expect("an error");
+        assert_eq!(e.location.to_string(), format!("{}:3:14", path.display()));
+        let printed = e.to_string();
+        assert!(
+            printed.contains(&format!("the file ends at line {}, column 1", lines + 1)),
+            "{printed}"
+        );
+        std::fs::remove_dir_all(&dir).ok();
+    }
+
+    #[test]
     fn import_outside_world_is_an_error() {
         let e = parse_all("Import \"x.pbrt\"").unwrap_err();
         assert_eq!(e.kind, ErrorKind::ImportOutsideWorld);

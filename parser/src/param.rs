@@ -157,7 +157,7 @@ pub fn split_declaration(declaration: &str) -> Option<(&str, &str)> {
 pub fn value_list(input: &[u8]) -> PResult<'_, Values> {
     let input = lexer::skip_space(input);
     match input.first() {
-        Some(b'[') => bracketed_values(&input[1..]),
+        Some(b'[') => bracketed_values(input),
         Some(b'"') => {
             let (rest, s) = lexer::quoted_string(input)?;
             Ok((rest, Values::Strings(vec![s])))
@@ -190,8 +190,9 @@ fn boolean(input: &[u8]) -> Option<(&[u8], bool)> {
     }
 }
 
-fn bracketed_values(input: &[u8]) -> PResult<'_, Values> {
-    let mut rest = lexer::skip_space(input);
+/// `[ ... ]`; `open` starts at the `[` (where an unclosed list is reported).
+fn bracketed_values(open: &[u8]) -> PResult<'_, Values> {
+    let mut rest = lexer::skip_space(&open[1..]);
     // The first element decides the kind of the list.
     let mut values = match rest.first() {
         Some(b']') => return Ok((&rest[1..], Values::Numbers(Vec::new()))),
@@ -202,13 +203,13 @@ fn bracketed_values(input: &[u8]) -> PResult<'_, Values> {
     loop {
         match rest.first() {
             Some(b']') => return Ok((&rest[1..], values)),
-            None => return fail(rest, ErrorKind::UnexpectedEof("']'")),
+            None => return fail(open, unclosed_bracket(open)),
             _ => {}
         }
         match &mut values {
             Values::Numbers(v) => {
                 if !lexer::starts_number(rest) {
-                    return fail(rest, mixed_or_bad(rest, "numbers"));
+                    return fail(rest, mixed_or_bad(open, rest, "numbers"));
                 }
                 let (r, x) = lexer::number(rest)?;
                 v.push(x);
@@ -216,7 +217,7 @@ fn bracketed_values(input: &[u8]) -> PResult<'_, Values> {
             }
             Values::Strings(v) => {
                 if rest[0] != b'"' {
-                    return fail(rest, mixed_or_bad(rest, "strings"));
+                    return fail(rest, mixed_or_bad(open, rest, "strings"));
                 }
                 let (r, s) = lexer::quoted_string(rest)?;
                 v.push(s);
@@ -227,23 +228,35 @@ fn bracketed_values(input: &[u8]) -> PResult<'_, Values> {
                     v.push(b);
                     rest = r;
                 }
-                None => return fail(rest, mixed_or_bad(rest, "bools (true or false)")),
+                None => return fail(rest, mixed_or_bad(open, rest, "bools (true or false)")),
             },
         }
         rest = lexer::skip_space(rest);
     }
 }
 
-fn mixed_or_bad(input: &[u8], expected: &'static str) -> ErrorKind {
+/// The error for a `[` (starting `open`) that the input ends inside.
+pub(crate) fn unclosed_bracket(open: &[u8]) -> ErrorKind {
+    ErrorKind::UnclosedBracket { to_end: open.len() }
+}
+
+/// Something other than a value or `]` at `input` inside the list `open`
+/// starts: a value of another kind, or no value at all.
+pub(crate) fn not_in_list(open: &[u8], input: &[u8], expected: &'static str) -> ErrorKind {
+    ErrorKind::NotInList {
+        expected,
+        found: describe(input),
+        back: open.len() - input.len(),
+    }
+}
+
+fn mixed_or_bad(open: &[u8], input: &[u8], expected: &'static str) -> ErrorKind {
     let looks_like_value =
         input[0] == b'"' || lexer::starts_number(input) || boolean(input).is_some();
     if looks_like_value {
         ErrorKind::MixedValues { expected }
     } else {
-        ErrorKind::Expected {
-            expected: "a value or ']'",
-            found: describe(input),
-        }
+        not_in_list(open, input, "a value or ']'")
     }
 }
 
