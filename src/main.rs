@@ -33,7 +33,15 @@ enum Command {
 }
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    // pbrt-v4 writes --pixelbounds and --cropwindow as one list (0,120,0,90).
+    let args = match render_scene::expand_comma_lists(std::env::args_os()) {
+        Ok(args) => args,
+        Err(e) => {
+            eprintln!("error: {e}");
+            return ExitCode::from(2);
+        }
+    };
+    let cli = Cli::parse_from(args);
     let (outcome, error_code) = match &cli.command {
         None => (
             render_scene::run(&cli.render).map(|()| ExitCode::SUCCESS),

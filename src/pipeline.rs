@@ -2,6 +2,8 @@
 
 use crate::cameras::CameraSample;
 use crate::error::{Error, Result};
+use crate::film::RgbFilm;
+use crate::image::pixel_format::count_beyond_half;
 use crate::image::{DataWindow, Image};
 use crate::integrators::{path_li, RayCounts};
 use crate::render::{interrupt_flag, render};
@@ -30,6 +32,9 @@ pub struct RenderReport {
     pub render_cpu: Option<Duration>,
     /// Samples whose radiance was NaN or infinite (set to 0, as pbrt-v4).
     pub bad_samples: u64,
+    /// Channel values beyond the half-float range, written as ±65504 to a
+    /// half EXR (as pbrt-v4's film clamps them).
+    pub half_clamped: u64,
     /// Rays the render traced.
     pub rays: RayCounts,
     pub warnings: Vec<String>,
@@ -54,6 +59,7 @@ pub fn render_file(
     let built = build(&loaded.scene, overrides)?;
     let mut warnings: Vec<String> = loaded.warnings.iter().map(|w| w.to_string()).collect();
     warnings.extend(built.warnings.iter().map(|w| w.to_string()));
+    check_window(&built.film, overrides, &mut warnings)?;
     let build_time = start.elapsed() - parse;
 
     let film = &built.film;
@@ -123,11 +129,16 @@ pub fn render_file(
         path: film.filename.display().to_string(),
         source: std::io::Error::other(e.to_string()),
     };
-    let image = Image::from_rgb(w, h, data).map_err(io_error)?;
     let is_exr = film
         .filename
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+    let half_clamped = if is_exr && film.save_fp16 {
+        count_beyond_half(&data)
+    } else {
+        0
+    };
+    let image = Image::from_rgb(w, h, data).map_err(io_error)?;
     if is_exr {
         // A partial render keeps its place in the film (as pbrt-v4 writes
         // it), so `rpbrt imgtool assemble` can put the pieces together.
@@ -153,9 +164,53 @@ pub fn render_file(
         render: outcome.elapsed,
         render_cpu: outcome.cpu,
         bad_samples: bad.into_inner(),
+        half_clamped,
         rays: rays.into_inner().unwrap_or_else(|e| e.into_inner()),
         warnings,
     })
+}
+
+/// `--pixelbounds` / `--cropwindow` against the image: an error when no
+/// pixel of it is left to render, a warning when the bounds reached past it
+/// and were clipped, or when both flags were given (the crop window wins),
+/// as pbrt-v4.
+fn check_window(
+    film: &RgbFilm,
+    overrides: &RenderOverrides,
+    warnings: &mut Vec<String>,
+) -> Result<()> {
+    let list = |v: &[String]| v.join(",");
+    let (flag, requested) = match (overrides.crop_window, overrides.pixel_bounds) {
+        (Some(c), pixels) => {
+            if pixels.is_some() {
+                warnings.push(
+                    "warning: both --pixelbounds and --cropwindow were given; using the crop window"
+                        .into(),
+                );
+            }
+            ("--cropwindow", list(&c.map(|v| v.to_string())))
+        }
+        (None, Some(b)) => ("--pixelbounds", list(&b.map(|v| v.to_string()))),
+        (None, None) => return Ok(()),
+    };
+    let (lo, hi) = film.pixel_bounds;
+    let full = film.full_resolution;
+    if hi.x <= lo.x || hi.y <= lo.y {
+        return Err(Error::Usage(format!(
+            "{flag} {requested} leaves no pixel of the {}x{} image to render",
+            full.x, full.y
+        )));
+    }
+    if let (None, Some([x0, x1, y0, y1])) = (overrides.crop_window, overrides.pixel_bounds) {
+        if (lo.x, hi.x, lo.y, hi.y) != (x0, x1, y0, y1) {
+            warnings.push(format!(
+                "warning: --pixelbounds {requested} reaches outside the {}x{} image; \
+                 rendering {},{},{},{}",
+                full.x, full.y, lo.x, hi.x, lo.y, hi.y
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// A render task's ray counts, added to the render's total when the task

@@ -97,3 +97,162 @@ fn curves_as_area_lights_are_refused_with_a_message() {
     );
     assert!(!out.exists(), "no image is written on error");
 }
+
+/// A small lit scene (40 × 30, 16 spp), rendered to `name`.exr beside it.
+fn small_scene(name: &str, light_scale: &str, film_extra: &str) -> (PathBuf, PathBuf) {
+    let scene = write_temp(
+        &format!("{name}.pbrt"),
+        &format!(
+            "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 30\n\
+             Film \"rgb\" \"integer xresolution\" 40 \"integer yresolution\" 30 {film_extra}\n\
+             Sampler \"zsobol\" \"integer pixelsamples\" 16\nWorldBegin\n\
+             LightSource \"point\" \"point3 from\" [ 0 0 2 ] \"float scale\" {light_scale}\n\
+             Material \"diffuse\"\nShape \"sphere\" \"float radius\" 1\n"
+        ),
+    );
+    let out = scene.with_extension("exr");
+    (scene, out)
+}
+
+/// `--stats`' first line: "resolution WxH, N spp, ...".
+fn stats_line(stdout: &str) -> &str {
+    stdout.lines().next().unwrap_or("")
+}
+
+#[test]
+fn window_flags_take_pbrt_v4s_comma_lists_and_four_numbers() {
+    let (scene, out) = small_scene("window", "1", "");
+    let (scene, out) = (scene.to_str().unwrap(), out.to_str().unwrap());
+    let forms: [&[&str]; 5] = [
+        &["--pixelbounds", "10,30,5,20"],
+        &["--pixelbounds=10,30,5,20"],
+        &["--pixelbounds", "10", "30", "5", "20"],
+        &["--cropwindow", "0.25,0.75,0.1666,0.6666"],
+        &["--cropwindow", "0.25", "0.75", "0.1666", "0.6666"],
+    ];
+    for flags in forms {
+        let mut args = flags.to_vec();
+        args.extend([scene, "--outfile", out, "--spp", "1", "--stats", "--quiet"]);
+        let (ok, stdout, stderr) = rpbrt(&args);
+        assert!(ok, "{flags:?}: {stderr}");
+        assert!(
+            stats_line(&stdout).starts_with("resolution 20x15,"),
+            "{flags:?}: {stdout}"
+        );
+        let (_, window) = rpbrt::image::Image::read_exr_with_window(out).unwrap();
+        assert_eq!(
+            (window.origin, window.full_resolution),
+            ((10, 5), (40, 30)),
+            "{flags:?}"
+        );
+    }
+}
+
+#[test]
+fn bad_window_values_are_clear_errors() {
+    let (scene, out) = small_scene("bad-window", "1", "");
+    let (scene, out) = (scene.to_str().unwrap(), out.to_str().unwrap());
+    let cases: [(&[&str], &str); 8] = [
+        (
+            &["--pixelbounds", "0,20,0"],
+            "--pixelbounds takes four values",
+        ),
+        (
+            &["--cropwindow=0,1,0,1,1"],
+            "--cropwindow takes four values",
+        ),
+        (&["--pixelbounds", "0,x,0,10"], "invalid value 'x'"),
+        (&["--pixelbounds", "5,5,0,10"], "holds no pixels"),
+        (
+            &["--pixelbounds", "50,60,0,10"],
+            "leaves no pixel of the 40x30 image",
+        ),
+        (
+            &["--cropwindow", "0,1.5,0,1"],
+            "1.5 is not a fraction of the image",
+        ),
+        (
+            &["--cropwindow", "0,nan,0,1"],
+            "NaN is not a fraction of the image",
+        ),
+        (&["--cropwindow", "0.5,0.5,0,1"], "is empty"),
+    ];
+    for (flags, message) in cases {
+        let mut args = flags.to_vec();
+        args.extend([scene, "--outfile", out, "--spp", "1"]);
+        let (ok, _, stderr) = rpbrt(&args);
+        assert!(!ok, "{flags:?} succeeded");
+        assert!(
+            stderr.contains(message) && !stderr.contains("panicked"),
+            "{flags:?}: {stderr}"
+        );
+    }
+    // Bounds reaching past the image are clipped to it, with a warning.
+    let (ok, stdout, stderr) = rpbrt(&[
+        "--pixelbounds",
+        "-5,20,0,50",
+        scene,
+        "--outfile",
+        out,
+        "--spp",
+        "1",
+        "--stats",
+    ]);
+    assert!(ok, "{stderr}");
+    assert!(
+        stats_line(&stdout).starts_with("resolution 20x30,"),
+        "{stdout}"
+    );
+    assert!(
+        stderr.contains("reaches outside the 40x30 image; rendering 0,20,0,30"),
+        "{stderr}"
+    );
+}
+
+#[test]
+fn quick_renders_a_quarter_resolution_at_one_sample_per_pixel() {
+    let (scene, out) = small_scene("quick", "1", "");
+    let (scene, out) = (scene.to_str().unwrap(), out.to_str().unwrap());
+    for spp in [None, Some("64")] {
+        let mut args = vec![scene, "--quick", "--outfile", out, "--stats", "--quiet"];
+        if let Some(spp) = spp {
+            args.extend(["--spp", spp]);
+        }
+        let (ok, stdout, stderr) = rpbrt(&args);
+        assert!(ok, "{stderr}");
+        assert!(
+            stats_line(&stdout).starts_with("resolution 10x7, 1 spp,"),
+            "--spp {spp:?}: {stdout}"
+        );
+    }
+}
+
+#[test]
+fn radiance_beyond_the_half_range_is_clamped_and_counted() {
+    let (scene, out) = small_scene("huge-light", "1e9", "");
+    let (scene, out) = (scene.to_str().unwrap(), out.to_str().unwrap());
+    let (ok, stdout, stderr) = rpbrt(&[scene, "--outfile", out, "--spp", "1", "--stats"]);
+    assert!(ok, "{stderr}");
+    let image = rpbrt::image::Image::read(out).unwrap();
+    assert_eq!(image.format(), rpbrt::image::PixelFormat::Half);
+    assert!(image.data().iter().all(|v| v.is_finite()));
+    let clamped = image.data().iter().filter(|v| v.abs() == 65504.0).count();
+    assert!(clamped > 0, "the light is bright enough to clamp");
+    assert!(
+        stderr.contains(&format!(
+            "warning: {clamped} channel values exceeded the half-float range and were clamped"
+        )),
+        "{stderr}"
+    );
+    assert!(
+        stdout.contains(&format!("clamped to half: {clamped}")),
+        "{stdout}"
+    );
+    // 32-bit float EXRs keep the values, and nothing is clamped.
+    let (scene, out) = small_scene("huge-light-f32", "1e9", "\"bool savefp16\" false");
+    let (scene, out) = (scene.to_str().unwrap(), out.to_str().unwrap());
+    let (ok, _, stderr) = rpbrt(&[scene, "--outfile", out, "--spp", "1"]);
+    assert!(ok && !stderr.contains("half-float range"), "{stderr}");
+    let image = rpbrt::image::Image::read(out).unwrap();
+    assert!(image.data().iter().any(|&v| v > 65504.0 && v.is_finite()));
+}

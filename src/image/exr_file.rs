@@ -6,10 +6,11 @@
 //! otherwise Y (and A), otherwise a lone channel of any name. Half and float
 //! samples are both read as `f32`; the format records which it was.
 
+use super::pixel_format::saturating_f16;
 use super::{ColorEncoding, DataWindow, Image, ImageError, PixelFormat};
 use exr::prelude::{
-    f16, read, AnyChannel, AnyChannels, Encoding, FlatSamples, ImageAttributes, IntegerBounds,
-    Layer, LayerAttributes, ReadChannels, ReadLayers, Text, Vec2, WritableImage,
+    read, AnyChannel, AnyChannels, Encoding, FlatSamples, ImageAttributes, IntegerBounds, Layer,
+    LayerAttributes, ReadChannels, ReadLayers, Text, Vec2, WritableImage,
 };
 use std::io::{BufReader, Seek, Write};
 use std::path::Path;
@@ -133,7 +134,9 @@ fn canonical_channels(names: &[String]) -> Option<Vec<String>> {
 }
 
 /// Writes every channel of `image` (linear and finite; the caller checks),
-/// as half floats if `half`, else 32-bit floats, ZIP-compressed; placed at
+/// as half floats if `half` (values beyond the half range written as
+/// ±65504, the largest finite half, as pbrt-v4's films clamp them: never
+/// ±∞), else 32-bit floats, ZIP-compressed; placed at
 /// `window` in a larger display window if given (as pbrt-v4 writes a
 /// `--pixelbounds` or `--cropwindow` render).
 pub(crate) fn write_exr(
@@ -161,7 +164,7 @@ pub(crate) fn write_exr(
             .step_by(channel_count)
             .copied();
         let samples = if half {
-            FlatSamples::F16(column.map(f16::from_f32).collect())
+            FlatSamples::F16(column.map(saturating_f16).collect())
         } else {
             FlatSamples::F32(column.collect())
         };

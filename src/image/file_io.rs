@@ -199,6 +199,21 @@ mod tests {
     }
 
     #[test]
+    fn half_exrs_clamp_values_beyond_the_half_range() {
+        let directory = TestDirectory::new("exr-half-clamp");
+        let path = directory.join("bright.exr");
+        let bright = Image::new(4, 1, &["Y"], vec![1e6, -3e5, 65519.0, 2.0]).unwrap();
+        bright.write_exr(&path, true).unwrap();
+        assert_eq!(
+            Image::read(&path).unwrap().data(),
+            [65504.0, -65504.0, 65504.0, 2.0]
+        );
+        // 32-bit floats keep them.
+        bright.write_exr(&path, false).unwrap();
+        assert_eq!(Image::read(&path).unwrap().data(), bright.data());
+    }
+
+    #[test]
     fn pfm_round_trip_is_exact_and_keeps_orientation() {
         let directory = TestDirectory::new("pfm");
         let path = directory.join("image.pfm");

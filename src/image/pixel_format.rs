@@ -32,9 +32,42 @@ impl PixelFormat {
     }
 }
 
+/// The largest finite half float.
+pub const HALF_MAX: f32 = 65504.0;
+
+/// `value` as a half float, saturating: beyond ±[`HALF_MAX`] it is
+/// ±`HALF_MAX`, never ±∞ (pbrt-v4's films clamp so before writing half
+/// EXRs).
+#[inline]
+pub fn saturating_f16(value: f32) -> f16 {
+    f16::from_f32(value.clamp(-HALF_MAX, HALF_MAX))
+}
+
+/// How many of `values` lie beyond ±[`HALF_MAX`]: those that
+/// [`saturating_f16`] clamps.
+pub fn count_beyond_half(values: &[f32]) -> u64 {
+    values.iter().filter(|v| v.abs() > HALF_MAX).count() as u64
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn halves_saturate_at_the_largest_finite_half() {
+        for (value, half) in [
+            (1e6, HALF_MAX),
+            (f32::INFINITY, HALF_MAX),
+            (-1e9, -HALF_MAX),
+            (65519.0, HALF_MAX),
+            (HALF_MAX, HALF_MAX),
+            (1.5, 1.5),
+        ] {
+            assert_eq!(saturating_f16(value).to_f32(), half, "{value}");
+        }
+        assert!(f16::from_f32(1e6).to_f32().is_infinite());
+        assert_eq!(count_beyond_half(&[1e6, -1e6, HALF_MAX, 0.0, 65505.0]), 3);
+    }
 
     #[test]
     fn round_trips_quantise_as_the_storage_would() {

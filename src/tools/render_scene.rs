@@ -1,6 +1,10 @@
 //! The default command, `rpbrt FILE [flags]`: render a scene with pbrt-v4's
 //! flags, or check, format or upgrade it.
 
+mod pixel_window;
+
+pub use pixel_window::expand_comma_lists;
+
 use crate::error::Error;
 use crate::scene::build::RenderOverrides;
 use pbrt_parser::{Formatter, Parser};
@@ -39,13 +43,15 @@ pub struct RenderArgs {
     /// Output image (.exr, .png or .pfm; overrides the film's filename).
     #[arg(long)]
     pub outfile: Option<PathBuf>,
-    /// Render only this window of the image: x0 x1 y0 y1 in [0, 1].
+    /// Render only this window of the image: x0,x1,y0,y1 in [0, 1] (as
+    /// pbrt-v4), or x0 x1 y0 y1.
     #[arg(long, num_args = 4, value_names = ["X0", "X1", "Y0", "Y1"], allow_negative_numbers = true)]
     pub cropwindow: Option<Vec<f64>>,
-    /// Render only these pixels: x0 x1 y0 y1.
-    #[arg(long, num_args = 4, value_names = ["X0", "X1", "Y0", "Y1"])]
+    /// Render only these pixels: x0,x1,y0,y1 (as pbrt-v4), or x0 x1 y0 y1.
+    #[arg(long, num_args = 4, value_names = ["X0", "X1", "Y0", "Y1"], allow_negative_numbers = true)]
     pub pixelbounds: Option<Vec<i32>>,
-    /// Quick preview: a quarter of the resolution, a sixteenth of the samples.
+    /// Quick preview, as pbrt-v4: a quarter of the resolution in each axis
+    /// and 1 sample per pixel (over --spp and the scene's sampler).
     #[arg(long)]
     pub quick: bool,
     /// Print timing and sample statistics after rendering.
@@ -71,14 +77,7 @@ pub fn run(cli: &RenderArgs) -> Result<(), Error> {
         }
         return Ok(());
     }
-    let overrides = RenderOverrides {
-        spp: cli.spp,
-        seed: cli.seed,
-        outfile: cli.outfile.clone(),
-        crop_window: cli.cropwindow.as_ref().map(|v| [v[0], v[1], v[2], v[3]]),
-        pixel_bounds: cli.pixelbounds.as_ref().map(|v| [v[0], v[1], v[2], v[3]]),
-        quick: cli.quick,
-    };
+    let overrides = overrides(cli)?;
     let threads = cli
         .nthreads
         .unwrap_or_else(|| std::thread::available_parallelism().map_or(1, |n| n.get()))
@@ -102,10 +101,18 @@ pub fn run(cli: &RenderArgs) -> Result<(), Error> {
             report.bad_samples
         );
     }
+    if report.half_clamped > 0 {
+        eprintln!(
+            "warning: {} channel values exceeded the half-float range and were clamped to \
+             ±65504, the largest finite half, as pbrt-v4 does (the film's \
+             \"bool savefp16\" false writes 32-bit floats)",
+            report.half_clamped
+        );
+    }
     if cli.stats {
         println!(
             "resolution {}x{}, {} spp, {} threads\nparse: {:.3} s\nbuild: {:.3} s\nrender: {:.3} s{}\n\
-             rays: {} closest-hit, {} shadow\nbad samples: {}",
+             rays: {} closest-hit, {} shadow\nbad samples: {}\nclamped to half: {}",
             report.resolution.0,
             report.resolution.1,
             report.spp_completed,
@@ -118,13 +125,37 @@ pub fn run(cli: &RenderArgs) -> Result<(), Error> {
                 .map_or(String::new(), |c| format!(" ({:.3} s CPU)", c.as_secs_f64())),
             report.rays.closest_hit,
             report.rays.shadow,
-            report.bad_samples
+            report.bad_samples,
+            report.half_clamped
         );
         if let Some(bytes) = super::peak_memory::peak_memory_bytes() {
             println!("peak memory: {} MB", bytes / 1_000_000);
         }
     }
     Ok(())
+}
+
+/// The command line's overrides of the scene, checked.
+fn overrides(cli: &RenderArgs) -> Result<RenderOverrides, Error> {
+    Ok(RenderOverrides {
+        // pbrt-v4's --quick sets every sampler's samples per pixel to 1,
+        // over --spp and the scene (the resolution is quartered when the
+        // film is made).
+        spp: if cli.quick { Some(1) } else { cli.spp },
+        seed: cli.seed,
+        outfile: cli.outfile.clone(),
+        crop_window: cli
+            .cropwindow
+            .as_deref()
+            .map(pixel_window::crop_window)
+            .transpose()?,
+        pixel_bounds: cli
+            .pixelbounds
+            .as_deref()
+            .map(pixel_window::pixel_bounds)
+            .transpose()?,
+        quick: cli.quick,
+    })
 }
 
 /// `--format` / `--upgrade`: directives back to text, streaming.
