@@ -227,6 +227,24 @@ fn quick_renders_a_quarter_resolution_at_one_sample_per_pixel() {
     }
 }
 
+/// Under `--quick` a Film's own bounds are those of the reduced image, as
+/// pbrt-v4 reads them after dividing the resolution: `pixelbounds` clipped
+/// to it, `cropwindow` taken of it.
+#[test]
+fn quick_keeps_the_films_own_bounds_on_the_reduced_image() {
+    for (name, film, expected) in [
+        ("quick-pb", "\"integer pixelbounds\" [ 2 8 0 30 ]", (6, 7)),
+        ("quick-crop", "\"float cropwindow\" [ 0 0.5 0 1 ]", (5, 7)),
+    ] {
+        let (scene, out) = small_scene(name, "1", film);
+        let (scene, out) = (scene.to_str().unwrap(), out.to_str().unwrap());
+        let (ok, _, stderr) = rpbrt(&[scene, "--quick", "--outfile", out, "--quiet"]);
+        assert!(ok, "{stderr}");
+        let image = rpbrt::image::Image::read(out).unwrap();
+        assert_eq!((image.width(), image.height()), expected, "{film}");
+    }
+}
+
 #[test]
 fn radiance_beyond_the_half_range_is_clamped_and_counted() {
     let (scene, out) = small_scene("huge-light", "1e9", "");

@@ -43,12 +43,16 @@ pub struct RgbFilm {
 
 impl RgbFilm {
     /// `exposure_time`: the camera's shutter interval. `outfile` overrides
-    /// the scene's file name (`--outfile`).
+    /// the scene's file name (`--outfile`). `quick` (`--quick`) divides the
+    /// resolution by 4 in each axis first, as pbrt-v4 does, so the film's
+    /// own `pixelbounds` are clipped to, and its `cropwindow` taken of, the
+    /// reduced image.
     pub fn create(
         entity: &Entity,
         exposure_time: f32,
         outfile: Option<PathBuf>,
         base_directory: &std::path::Path,
+        quick: bool,
     ) -> Result<Self> {
         let p = &entity.params;
         let loc = &entity.location.0;
@@ -69,7 +73,11 @@ impl RgbFilm {
                 loc,
             );
         }
-        let full = IVec2::new(xres, yres);
+        let full = if quick {
+            (IVec2::new(xres, yres) / 4).max(IVec2::ONE)
+        } else {
+            IVec2::new(xres, yres)
+        };
         let mut bounds = (IVec2::ZERO, full);
         let pb = p.ints("pixelbounds")?;
         match pb.len() {

@@ -34,8 +34,9 @@ pub struct RenderOverrides {
     pub outfile: Option<PathBuf>,
     pub crop_window: Option<[f64; 4]>,
     pub pixel_bounds: Option<[i32; 4]>,
-    /// `--quick`: a quarter of the resolution in each axis, 1 spp... as pbrt
-    /// (pbrt-v4: resolution / 4, spp 1? — here: resolution / 4 and spp / 16).
+    /// `--quick`, as pbrt-v4: a quarter of the resolution in each axis
+    /// (the film's own bounds taken of the reduced image) and 1 sample per
+    /// pixel, over `spp`.
     pub quick: bool,
 }
 
@@ -358,11 +359,13 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
     let exposure = (cam_params.float("shutterclose", 1.0)?
         - cam_params.float("shutteropen", 0.0)?)
     .abs() as f32;
-    let mut film = RgbFilm::create(&scene.film, exposure, overrides.outfile.clone(), base)?;
-    if overrides.quick {
-        film.full_resolution = (film.full_resolution / 4).max(IVec2::ONE);
-        film.set_pixel_bounds((IVec2::ZERO, film.full_resolution));
-    }
+    let mut film = RgbFilm::create(
+        &scene.film,
+        exposure,
+        overrides.outfile.clone(),
+        base,
+        overrides.quick,
+    )?;
     if let Some([x0, x1, y0, y1]) = overrides.pixel_bounds {
         film.set_pixel_bounds((IVec2::new(x0, y0), IVec2::new(x1, y1)));
     }
@@ -375,7 +378,7 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
 
     let seed = overrides.seed.unwrap_or(scene.options.seed);
     let spp = if overrides.quick {
-        Some(overrides.spp.unwrap_or(16).div_ceil(16).max(1))
+        Some(1)
     } else {
         overrides.spp
     };
