@@ -87,7 +87,11 @@ fn ring_at(
 ) -> Option<(Vec3, Longitudinal)> {
     let prim = &scene.primitives[si.primitive as usize];
     let material = &scene.materials[prim.material as usize];
-    if !material.has_diffracting_ring() {
+    // Most blockers are not rings (a fibre's core, other surfaces): they
+    // are told apart by h alone, before a BSDF (and the core's trace
+    // through the ellipse) is made.
+    let d_diff = material.dual_hair()?.d_diff;
+    if d_diff <= 0.0 || (-1.0 + 2.0 * si.uv.y).abs() * (1.0 + d_diff) <= 1.0 {
         return None;
     }
     let mut lambda = *lambda;
