@@ -5,6 +5,17 @@ mod common;
 
 use rpbrt::scene::build::RenderOverrides;
 
+/// Uniform numbers in [0, 1) from a 64-bit LCG (Knuth's constants).
+fn uniform_numbers(seed: u64) -> impl FnMut() -> f32 {
+    let mut state = seed;
+    move || {
+        state = state
+            .wrapping_mul(6_364_136_223_846_793_005)
+            .wrapping_add(1_442_695_040_888_963_407);
+        (state >> 40) as f32 / (1u64 << 24) as f32
+    }
+}
+
 /// A ball of `count` straight fibres (random centres within radius 0.5,
 /// random directions, length 0.6, written width 0.01) under `material`,
 /// seen from 2.2 away, lit by `lights`.
@@ -14,13 +25,7 @@ fn fibre_ball(material: &str, lights: &str, count: usize, extra: &str) -> String
 
 /// [`fibre_ball`] with fibres `width` wide.
 fn fibres_of_width(material: &str, lights: &str, count: usize, extra: &str, width: f32) -> String {
-    let mut state = 0x2545_f491_4f6c_dd1d_u64;
-    let mut next = move || {
-        state = state
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (state >> 40) as f32 / (1u64 << 24) as f32
-    };
+    let mut next = uniform_numbers(0x2545_f491_4f6c_dd1d);
     let mut s = format!(
         "Film \"rgb\" \"integer xresolution\" [32] \"integer yresolution\" [32] \"string filename\" \"out.exr\"
 Sampler \"sobol\"
@@ -60,19 +65,8 @@ WorldBegin
 
 /// Renders `scene`; its pixels' channel averages and the bad-sample count.
 fn render(name: &str, scene: &str, spp: u32) -> (Vec<f64>, u64) {
-    let dir = std::env::temp_dir().join(format!("rpbrt-dual-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let path = dir.join("scene.pbrt");
-    std::fs::write(&path, scene).unwrap();
-    let out = dir.join("out.exr");
-    let overrides = RenderOverrides {
-        spp: Some(spp),
-        outfile: Some(out.clone()),
-        ..Default::default()
-    };
-    let report = rpbrt::pipeline::render_file(&path, &overrides, 2, false).unwrap();
-    let image = rpbrt::image::Image::read(&out).unwrap();
-    std::fs::remove_dir_all(&dir).ok();
+    let (image, report) =
+        common::render_text_with_report(name, scene, spp, 2, RenderOverrides::default());
     assert!(image.first_non_finite().is_none(), "{name}: a non-finite pixel");
     let pixels = (0..image.height())
         .flat_map(|y| (0..image.width()).map(move |x| (x, y)))
@@ -152,13 +146,7 @@ fn paper_albedo_over_hits(samples: usize) -> f64 {
     use rpbrt::bxdfs::hair_ellipse::{Ellipse, InternalFresnel, Variant};
     use rpbrt::spectrum::SampledSpectrum;
     use std::f32::consts::PI;
-    let mut state = 7u64;
-    let mut next = move || {
-        state = state
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        (state >> 40) as f32 / (1u64 << 24) as f32
-    };
+    let mut next = uniform_numbers(7);
     let params = DualHairParams {
         ellipse: Ellipse::new(30.0, 20.0),
         mean_radius_um: 25.0,

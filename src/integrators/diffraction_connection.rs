@@ -176,8 +176,9 @@ fn light_at_ring(
 }
 
 /// Light from the sample `seed` (light `light` chosen with probability
-/// `p_light`) reaching `x` through the diffracting ring hit `blocker`
-/// that stops the shadow ray; zero when `blocker` is not in a ring.
+/// `light_pmf`) reaching `x` through the diffracting ring hit `blocker`
+/// that stops the shadow ray; `None` when `blocker` is not in a ring or
+/// the connection carries nothing.
 #[allow(clippy::too_many_arguments)]
 pub fn through_ring(
     scene: &BuiltScene,
@@ -186,25 +187,7 @@ pub fn through_ring(
     ctx_x: &LightSampleContext,
     light: &Light,
     seed: &LightLiSample,
-    p_light: f32,
-    blocker: &SurfaceInteraction,
-    u_light: Vec2,
-    lambda: &SampledWavelengths,
-    sampler: &mut Sampler,
-    rays: &mut RayCounts,
-) -> SampledSpectrum {
-    connect(scene, x, bsdf, ctx_x, light, seed, blocker, u_light, lambda, sampler, rays)
-        .map_or(SampledSpectrum::ZERO, |l| l / p_light)
-}
-
-#[allow(clippy::too_many_arguments)]
-fn connect(
-    scene: &BuiltScene,
-    x: &SurfaceInteraction,
-    bsdf: &BSDF,
-    ctx_x: &LightSampleContext,
-    light: &Light,
-    seed: &LightLiSample,
+    light_pmf: f32,
     blocker: &SurfaceInteraction,
     u_light: Vec2,
     lambda: &SampledWavelengths,
@@ -254,10 +237,10 @@ fn connect(
     };
     rays.shadow += 1;
     let target = seed_point(&y, p_light, w_light, at_infinity);
-    if !scene.unoccluded_through(&y, target, Vec3::ZERO, Vec3::ZERO) {
+    if !scene.unoccluded(&y, true, target, Vec3::ZERO, Vec3::ZERO) {
         return None;
     }
-    let value = f * l * (m / density_m * jacobian);
+    let value = f * l * (m / (density_m * light_pmf) * jacobian);
     value.0.iter().all(|v| v.is_finite()).then_some(value)
 }
 

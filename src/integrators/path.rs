@@ -331,7 +331,8 @@ fn sample_ld(
             return diffraction_connection::through_ring(
                 scene, si, bsdf, &ctx, light, &ls, p_light, &blocker, u_light, lambda, sampler,
                 rays,
-            );
+            )
+            .unwrap_or(SampledSpectrum::ZERO);
         }
         if f.is_zero() {
             return SampledSpectrum::ZERO;
@@ -341,12 +342,7 @@ fn sample_ld(
             return SampledSpectrum::ZERO;
         }
         rays.shadow += 1;
-        let unoccluded = if through {
-            scene.unoccluded_through(si, ls.p_light, ls.p_light_error, ls.n_light)
-        } else {
-            scene.unoccluded(si, ls.p_light, ls.p_light_error, ls.n_light)
-        };
-        if !unoccluded {
+        if !scene.unoccluded(si, through, ls.p_light, ls.p_light_error, ls.n_light) {
             return SampledSpectrum::ZERO;
         }
     }

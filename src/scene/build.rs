@@ -283,31 +283,19 @@ impl BuiltScene {
     }
 
     /// Whether the segment between a surface point and a light point is
-    /// clear (both ends offset off their surfaces).
+    /// clear (both ends offset off their surfaces; `through`: `from` is a
+    /// hit in a diffracting ring, whose rays start along their direction,
+    /// [`SurfaceInteraction::spawn_ray_through`]).
     pub fn unoccluded(
         &self,
         from: &SurfaceInteraction,
+        through: bool,
         p_to: Vec3,
         p_to_error: Vec3,
         n_to: Vec3,
     ) -> bool {
         !self.intersect_p(
-            &Self::shadow_ray(from, false, p_to, p_to_error, n_to),
-            1.0 - 1e-4,
-        )
-    }
-
-    /// [`Self::unoccluded`] from a hit in a diffracting ring
-    /// ([`SurfaceInteraction::spawn_ray_through`]).
-    pub fn unoccluded_through(
-        &self,
-        from: &SurfaceInteraction,
-        p_to: Vec3,
-        p_to_error: Vec3,
-        n_to: Vec3,
-    ) -> bool {
-        !self.intersect_p(
-            &Self::shadow_ray(from, true, p_to, p_to_error, n_to),
+            &Self::shadow_ray(from, through, p_to, p_to_error, n_to),
             1.0 - 1e-4,
         )
     }

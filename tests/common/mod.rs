@@ -59,6 +59,17 @@ pub fn render_text(
     threads: usize,
     extra: rpbrt::scene::build::RenderOverrides,
 ) -> rpbrt::image::Image {
+    render_text_with_report(name, scene, spp, threads, extra).0
+}
+
+/// [`render_text`], with the render's report (bad samples, rays, times).
+pub fn render_text_with_report(
+    name: &str,
+    scene: &str,
+    spp: u32,
+    threads: usize,
+    extra: rpbrt::scene::build::RenderOverrides,
+) -> (rpbrt::image::Image, rpbrt::pipeline::RenderReport) {
     let dir = std::env::temp_dir().join(format!("rpbrt-test-{name}-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("scene.pbrt");
@@ -69,8 +80,8 @@ pub fn render_text(
         outfile: Some(out.clone()),
         ..extra
     };
-    rpbrt::pipeline::render_file(&path, &overrides, threads, false).unwrap();
+    let report = rpbrt::pipeline::render_file(&path, &overrides, threads, false).unwrap();
     let image = rpbrt::image::Image::read(&out).unwrap();
     std::fs::remove_dir_all(&dir).ok();
-    image
+    (image, report)
 }
