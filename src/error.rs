@@ -3,6 +3,7 @@
 
 use pbrt_parser::{Location, ParseError};
 use std::fmt;
+use std::path::Path;
 
 /// An error caused by a scene (as opposed to a bug): what, and where.
 #[derive(Debug, Clone)]
@@ -57,4 +58,34 @@ pub type Result<T, E = Error> = std::result::Result<T, E>;
 /// Shorthand for a scene error at a location.
 pub fn scene_error<T>(message: impl Into<String>, location: &Location) -> Result<T> {
     Err(SceneError::new(message, location).into())
+}
+
+/// A file the scene names (a PLY mesh, an image, a spectrum) that could not
+/// be opened or read: the error points at where the scene names it
+/// (`location`, the parameter when there is one) and gives what the file
+/// is for, its path and the operating system's reason.
+pub fn unreadable_file(
+    what: &str,
+    path: &Path,
+    reason: &dyn fmt::Display,
+    location: &Location,
+) -> Error {
+    SceneError::new(
+        format!("{what}: cannot read \"{}\": {reason}", path.display()),
+        location,
+    )
+    .into()
+}
+
+/// An image the scene names that could not be used, at `location`: a file
+/// the system would not read is [`unreadable_file`]; other failures
+/// (format, contents) keep the image reader's message, which names the
+/// file.
+pub fn image_file_error(what: &str, error: crate::image::ImageError, location: &Location) -> Error {
+    match error {
+        crate::image::ImageError::Io { path, source } => {
+            unreadable_file(what, &path, &source, location)
+        }
+        other => SceneError::new(format!("{what}: {other}"), location).into(),
+    }
 }

@@ -171,3 +171,59 @@ fn errors_inside_gzipped_includes_point_into_them() {
     );
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// The error for a scene that names a file the system will not read: its
+/// first line, or why the scene did not fail.
+fn unreadable_file_error(path: &Path, text: &str) -> Result<String, String> {
+    std::fs::write(path, text).map_err(|e| e.to_string())?;
+    let built = std::panic::catch_unwind(|| {
+        let loaded = scene::load(path)?;
+        scene::build::build(&loaded.scene, &Default::default()).map(|_| ())
+    })
+    .map_err(|_| format!("panicked on {text:?}"))?;
+    match built {
+        Ok(()) => Err(format!("no error for {text:?}")),
+        Err(e) => Ok(e.to_string().lines().next().unwrap_or("").to_string()),
+    }
+}
+
+/// Every kind of file a scene names (PLY meshes, image textures,
+/// environment maps, spectrum files), missing or a directory, is reported
+/// at the parameter that names it, with the path and the system's reason.
+#[test]
+fn unreadable_files_are_reported_where_the_scene_names_them() {
+    let dir = temp_dir("files");
+    std::fs::create_dir_all(dir.join("folder.ply")).unwrap();
+    std::fs::create_dir_all(dir.join("folder.png")).unwrap();
+    let header = "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\"\n\
+                  Film \"rgb\" \"integer xresolution\" 4 \"integer yresolution\" 4\nWorldBegin\n";
+    // (world text, line:col, file named, text the first line must contain)
+    let cases = [
+        ("Shape \"plymesh\" \"string filename\" \"nowhere.ply\"", "5:17", "nowhere.ply", "No such file"),
+        ("AttributeBegin\n  Shape \"plymesh\"\n    \"string filename\" \"nowhere.ply.gz\"", "7:5", "nowhere.ply.gz", "No such file"),
+        ("Shape \"plymesh\" \"string filename\" \"folder.ply\"", "5:17", "folder.ply", "directory"),
+        ("Texture \"t\" \"spectrum\" \"imagemap\"\n  \"string filename\" \"nowhere.png\"\nMaterial \"diffuse\" \"texture reflectance\" \"t\"\nShape \"sphere\"", "6:3", "nowhere.png", "No such file"),
+        ("Texture \"t\" \"float\" \"imagemap\" \"string filename\" \"folder.png\"\nShape \"sphere\" \"texture alpha\" \"t\"", "5:32", "folder.png", "directory"),
+        ("LightSource \"infinite\" \"string filename\" \"nowhere.exr\"", "5:24", "nowhere.exr", "No such file"),
+        ("Material \"conductor\" \"spectrum eta\" \"nowhere.spd\" \"spectrum k\" \"metal-Cu-k\"\nShape \"sphere\"", "5:22", "nowhere.spd", "No such file"),
+        ("LightSource \"point\" \"spectrum I\" \"nowhere.spd\"", "5:21", "nowhere.spd", "No such file"),
+    ];
+    let path = dir.join("scene.pbrt");
+    let failures: Vec<String> = cases
+        .iter()
+        .filter_map(|(world, at, file, reason)| {
+            let first = match unreadable_file_error(&path, &format!("{header}{world}\n")) {
+                Ok(first) => first,
+                Err(e) => return Some(e),
+            };
+            let at = format!("{}:{at}:", path.display());
+            let named = dir.join(file).display().to_string();
+            let ok = first.starts_with(&at) && first.contains(&named) && first.contains(reason);
+            (!ok).then(|| {
+                format!("{world:?}: expected {at} ... {named} ... {reason}, got:\n{first}")
+            })
+        })
+        .collect();
+    assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -172,7 +172,7 @@ fn imagemap_and_alpha_errors_name_their_directive() {
         ),
         (
             "Texture \"t\" \"float\" \"imagemap\" \"string filename\" \"absent.png\"\n",
-            "scene.pbrt:6:1: imagemap texture: ",
+            "scene.pbrt:6:32: imagemap texture: cannot read \"",
         ),
         (
             "Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"halves.pfm\" \"string encoding\" \"gamma\"\n",

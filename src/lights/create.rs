@@ -1,7 +1,7 @@
 //! Lights from the scene description.
 
 use super::{DiffuseAreaLight, DistantLight, Light, PointLight, SpotLight, UniformInfiniteLight};
-use crate::error::{scene_error, Result};
+use crate::error::{image_file_error, scene_error, Result};
 use crate::math::Transform;
 use crate::scene::description::{self, Entity};
 use crate::scene::spectrum_param::spectrum_param;
@@ -86,7 +86,9 @@ pub fn create_light(
             Light::Distant(DistantLight { towards_light, radiance, scale, scene_radius: 0.0 })
         }
         "infinite" if p.find("filename", &[pbrt_parser::ParamType::String])?.is_some() => {
-            let filename = p.string("filename", "")?;
+            let (filename, filename_at) = p
+                .string_at("filename")?
+                .unwrap_or_else(|| (String::new(), loc.clone()));
             if p.find("L", &[pbrt_parser::ParamType::Rgb, pbrt_parser::ParamType::Spectrum, pbrt_parser::ParamType::Blackbody])?.is_some() {
                 return scene_error("infinite light: \"L\" and \"filename\" cannot both be given", loc);
             }
@@ -97,17 +99,15 @@ pub fn create_light(
                 return scene_error("infinite light \"portal\" is not supported yet", loc);
             }
             let path = pbrt_parser::resolve_path(base, &filename);
-            let image = match crate::image::Image::read(&path) {
-                Ok(image) => image,
-                Err(err) => return scene_error(format!("infinite light: {err}"), loc),
-            };
+            let image = crate::image::Image::read(&path)
+                .map_err(|e| image_file_error("infinite light", e, &filename_at))?;
             if image.width() != image.height() {
                 return scene_error(
                     format!(
                         "infinite light: \"{filename}\" is {}×{}, not square: it is unlikely to be an equal-area environment map",
                         image.width(), image.height()
                     ),
-                    loc,
+                    &filename_at,
                 );
             }
             let data = image.rgb_data();

@@ -183,6 +183,18 @@ impl ParamSet {
         }
     }
 
+    /// A one-valued string parameter and where it is written, for errors
+    /// about what it names (a file); `None` when absent.
+    pub fn string_at(&self, name: &str) -> Result<Option<(String, Location)>> {
+        let Some(p) = self.find(name, &[ParamType::String])? else {
+            return Ok(None);
+        };
+        match p.strings() {
+            [s] => Ok(Some((s.clone(), p.location.clone()))),
+            _ => scene_error(format!("expected one value for \"{name}\""), &p.location),
+        }
+    }
+
     /// The name of the texture bound to `name`, if any.
     pub fn texture(&self, name: &str) -> Result<Option<String>> {
         let Some(p) = self.find(name, &[ParamType::Texture])? else {

@@ -517,7 +517,9 @@ pub fn create_shapes(
             push_bilinear_mesh(storage, mesh)
         }
         "plymesh" => {
-            let filename = params.string("filename", "")?;
+            let (filename, filename_at) = params
+                .string_at("filename")?
+                .unwrap_or_else(|| (String::new(), location.clone()));
             params.float("edgelength", 1.0)?;
             if params
                 .find("displacement", &[ParamType::Float, ParamType::Texture])?
@@ -528,8 +530,8 @@ pub fn create_shapes(
             if filename.is_empty() {
                 return scene_error("plymesh: \"filename\" must be given", location);
             }
-            let path = base_directory.join(&filename);
-            let ply = ply::read_ply(&path, location)?;
+            let path = pbrt_parser::resolve_path(base_directory, &filename);
+            let ply = ply::read_ply(&path, &filename_at)?;
             if ply.skipped_faces > 0 {
                 warnings.push(Warning {
                     message: format!(

@@ -21,7 +21,7 @@
 //! maps), so large meshes read quickly.
 
 use super::mesh::{BilinearPatchMesh, MeshData, TriangleMesh};
-use crate::error::{scene_error, Error, Result};
+use crate::error::{scene_error, unreadable_file, Error, Result};
 use crate::math::Transform;
 use glam::{Vec2, Vec3};
 use pbrt_parser::Location;
@@ -101,13 +101,11 @@ impl PlyMesh {
     }
 }
 
-/// Reads a `.ply` or `.ply.gz` file. Errors name the file and point at the
-/// `Shape` directive (`location`).
+/// Reads a `.ply` or `.ply.gz` file. Errors name the file and point at
+/// `location` (the `filename` parameter that names it).
 pub fn read_ply(path: &Path, location: &Location) -> Result<PlyMesh> {
-    let file = std::fs::File::open(path).map_err(|source| Error::Io {
-        path: path.display().to_string(),
-        source,
-    })?;
+    let file = std::fs::File::open(path)
+        .map_err(|source| unreadable_file("plymesh", path, &source, location))?;
     let gzipped = path
         .extension()
         .is_some_and(|e| e.eq_ignore_ascii_case("gz"));

@@ -20,7 +20,7 @@
 
 use super::mapping::{TexCoord2D, TextureMapping2D};
 use super::TextureEvalContext;
-use crate::error::{scene_error, Result};
+use crate::error::{image_file_error, scene_error, Result};
 use crate::image::mipmap::DEFAULT_MAX_ANISOTROPY;
 use crate::image::{ColorEncoding, FilterFunction, MIPMap, WrapMode};
 use crate::scene::description::ColorSpaceName;
@@ -66,7 +66,7 @@ impl ImageCache {
         }
         let mipmap = match MIPMap::from_file(path, wrap, filter, encoding) {
             Ok(m) => Arc::new(m.with_max_anisotropy(max_anisotropy)),
-            Err(e) => return scene_error(format!("imagemap texture: {e}"), location),
+            Err(e) => return Err(image_file_error("imagemap texture", e, location)),
         };
         self.mipmaps.insert(key, Arc::clone(&mipmap));
         Ok(mipmap)
@@ -107,7 +107,9 @@ impl ImageTexture {
         };
         let scale = params.float("scale", 1.0)? as f32;
         let invert = params.bool("invert", false)?;
-        let filename = params.string("filename", "")?;
+        let (filename, filename_at) = params
+            .string_at("filename")?
+            .unwrap_or_else(|| (String::new(), location.clone()));
         if filename.is_empty() {
             return scene_error("imagemap texture: \"filename\" must be given", location);
         }
@@ -127,7 +129,7 @@ impl ImageTexture {
             }
         };
         let path = pbrt_parser::resolve_path(base_directory, &filename);
-        let mipmap = cache.get(&path, wrap, filter, encoding, max_anisotropy, location)?;
+        let mipmap = cache.get(&path, wrap, filter, encoding, max_anisotropy, &filename_at)?;
         Ok(ImageTexture::new(mipmap, mapping, scale, invert))
     }
 
