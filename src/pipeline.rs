@@ -3,6 +3,7 @@
 use crate::cameras::CameraSample;
 use crate::error::{Error, Result};
 use crate::film::RgbFilm;
+use crate::filters::FilterSample;
 use crate::image::pixel_format::count_beyond_half;
 use crate::image::{DataWindow, Image};
 use crate::integrators::{path_li, RayCounts};
@@ -66,7 +67,11 @@ pub fn render_file(
     let spp = built.sampler.samples_per_pixel();
     let bad = AtomicU64::new(0);
     let rays = Mutex::new(RayCounts::default());
-    let disable_jitter = loaded.scene.options.disable_wavelength_jitter;
+    let options = &loaded.scene.options;
+    let (wavelength_jitter, pixel_jitter) = (
+        !options.disable_wavelength_jitter,
+        !options.disable_pixel_jitter,
+    );
     let uses_lens = built.camera.uses_lens();
     let outcome = render(
         film.pixel_bounds,
@@ -77,13 +82,20 @@ pub fn render_file(
         || (built.sampler.clone(), RayTally::new(&rays)),
         |(sampler, tally), pixel, index, acc| {
             sampler.start_pixel_sample(pixel, index, 0);
-            let lu = if disable_jitter {
-                0.5
-            } else {
-                sampler.get_1d()
-            };
-            let mut lambda = SampledWavelengths::sample_visible(lu);
-            let fs = built.filter.sample(sampler.get_pixel_2d());
+            // Without jitter (pbrt-v4's `disablewavelengthjitter` and
+            // `disablepixeljitter`) the numbers are drawn all the same, so
+            // later dimensions stay pbrt-v4's: the wavelengths are those of
+            // u = 1/2, and the film point is the pixel's centre, weight 1.
+            let lu = sampler.get_1d();
+            let mut lambda =
+                SampledWavelengths::sample_visible(if wavelength_jitter { lu } else { 0.5 });
+            let mut fs = built.filter.sample(sampler.get_pixel_2d());
+            if !pixel_jitter {
+                fs = FilterSample {
+                    p: Vec2::ZERO,
+                    weight: 1.0,
+                };
+            }
             // pbrt-v4 takes a time and a lens point for every camera ray.
             // Without motion (unsupported) the time changes nothing, and
             // without a lens neither does the lens point: their dimensions

@@ -43,8 +43,13 @@ pub enum Camera {
 }
 
 /// How much of a pixel a camera ray's footprint spans: max(1/8, 1/√spp),
-/// as pbrt-v4 scales its differentials.
-fn differential_scale(samples_per_pixel: u32) -> f32 {
+/// as pbrt-v4 scales its differentials; a whole pixel when the samples are
+/// not jittered (pbrt-v4's `disablepixeljitter`: every sample of a pixel
+/// is its centre).
+fn differential_scale(samples_per_pixel: u32, pixel_jitter: bool) -> f32 {
+    if !pixel_jitter {
+        return 1.0;
+    }
     (1.0 / (samples_per_pixel.max(1) as f32).sqrt()).max(0.125)
 }
 
@@ -63,6 +68,22 @@ impl Camera {
                 format!("camera \"{other}\" is not supported yet (supported: perspective)"),
                 &entity.location.0,
             ),
+        }
+    }
+
+    /// The camera for renders whose samples are (or, with `false`, are
+    /// not) jittered across each pixel, which sets how far apart texture
+    /// lookups take their neighbours.
+    pub fn with_pixel_jitter(mut self, jitter: bool) -> Camera {
+        match &mut self {
+            Camera::Perspective(c) => c.pixel_jitter = jitter,
+        }
+        self
+    }
+
+    fn pixel_jitter(&self) -> bool {
+        match self {
+            Camera::Perspective(c) => c.pixel_jitter,
         }
     }
 
@@ -87,7 +108,7 @@ impl Camera {
     /// Approximate (∂p/∂x, ∂p/∂y) at a render-space point with normal `n`
     /// for a render of `samples_per_pixel` (see [`differentials`]).
     pub fn approximate_dp_dxy(&self, p: Vec3, n: Vec3, samples_per_pixel: u32) -> (Vec3, Vec3) {
-        let scale = differential_scale(samples_per_pixel);
+        let scale = differential_scale(samples_per_pixel, self.pixel_jitter());
         match self {
             Camera::Perspective(c) => {
                 c.min_differentials
@@ -113,7 +134,7 @@ impl Camera {
                 d.scaled(
                     ray.origin,
                     ray.direction,
-                    differential_scale(samples_per_pixel),
+                    differential_scale(samples_per_pixel, self.pixel_jitter()),
                 )
                 .dp_dxy(p, n)
             })

@@ -30,6 +30,10 @@ pub struct PerspectiveCamera {
     pub(super) lens_radius: f32,
     focal_distance: f32,
     pub min_differentials: MinimumDifferentials,
+    /// Whether camera samples are jittered across the pixel (false under
+    /// `Option "disablepixeljitter" true`): a ray's footprint is then a
+    /// whole pixel at any sample count.
+    pub(super) pixel_jitter: bool,
 }
 
 impl PerspectiveCamera {
@@ -100,6 +104,7 @@ impl PerspectiveCamera {
             lens_radius,
             focal_distance,
             min_differentials,
+            pixel_jitter: true,
         })
     }
 
@@ -256,6 +261,33 @@ mod tests {
             assert!((dpdx.length() - 0.2 * scale).abs() < 1e-3 * scale, "{dpdx}");
             assert!((dpdy.length() - 0.2 * scale).abs() < 1e-3 * scale, "{dpdy}");
             assert!(dpdx.dot(dpdy).abs() < 1e-6 && dpdx.z.abs() < 1e-6);
+        }
+    }
+
+    /// Without pixel jitter (pbrt-v4's `disablepixeljitter`) a camera
+    /// ray's footprint is a whole pixel at any sample count, both from its
+    /// differentials and from the camera's approximation.
+    #[test]
+    fn without_pixel_jitter_differentials_span_a_whole_pixel() {
+        let c = camera(
+            "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 90\nWorldBegin",
+        )
+        .with_pixel_jitter(false);
+        let sample = CameraSample {
+            p_film: Vec2::new(100.0, 50.0),
+            ..Default::default()
+        };
+        let lambda = crate::spectrum::SampledWavelengths::sample_visible(0.5);
+        let ray = c.generate_ray(&sample, &lambda).unwrap();
+        let p = ray.ray.origin + ray.ray.direction * 10.0;
+        let (whole_x, _) = c.first_hit_dp_dxy(&ray, p, Vec3::Z, 1);
+        let (approximate_x, _) = c.approximate_dp_dxy(p, Vec3::Z, 1);
+        for spp in [16, 1024] {
+            let (dpdx, dpdy) = c.first_hit_dp_dxy(&ray, p, Vec3::Z, spp);
+            assert!((dpdx.length() - 0.2).abs() < 2e-4, "{dpdx}");
+            assert!((dpdy.length() - 0.2).abs() < 2e-4, "{dpdy}");
+            assert_eq!(dpdx, whole_x);
+            assert_eq!(c.approximate_dp_dxy(p, Vec3::Z, spp).0, approximate_x);
         }
     }
 }

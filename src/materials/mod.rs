@@ -11,6 +11,9 @@
 //! | `hair` | `sigma_a`, or `reflectance` (alias `color`), or `eumelanin`/`pheomelanin` (default eumelanin 1.3 when none is given); `eta` 1.55, `beta_m` 0.3, `beta_n` 0.3 (both clamped to [0.01, 1]), `alpha` 2° |
 //! | `hair` (dual model) | `ellipse_a`, `ellipse_b`, `d_diff`, `ellipse_orientation`, `diffraction`, `variant`, `internal_fresnel`: see [`dual_hair`] |
 //! | `interface` | none: marks a boundary between media; rays pass through |
+//!
+//! Under `Option "forcediffuse" true` every material but `interface` is
+//! wrapped in [`Material::ForceDiffuse`] ([`force_diffuse`]).
 
 use crate::bxdfs::dual_hair::{axis_from_reference, DualHairBxDF, DualHairParams};
 use crate::bxdfs::hair::{CircularHairBxDF, HairBxDF, HairLobes};
@@ -30,6 +33,7 @@ use crate::textures::{
 use std::path::Path;
 
 pub mod dual_hair;
+pub mod force_diffuse;
 
 /// Roughness given as (u, v) textures, remapped to α or not.
 #[derive(Clone, Debug)]
@@ -121,6 +125,11 @@ pub enum Material {
         max_depth: u32,
         n_samples: u32,
     },
+    /// pbrt-v4's `forcediffuse`: the material's BSDF replaced by a diffuse
+    /// one of its albedo ([`force_diffuse`]). The shapes stay as the
+    /// material makes them (a dual hair fibre keeps its widened curve and
+    /// its orientation), but no BSDF has a diffracting ring.
+    ForceDiffuse(Box<Material>),
 }
 
 fn eta_param(tp: &TextureParams, name: &str) -> Result<Eta> {
@@ -183,6 +192,7 @@ impl Material {
     /// for the dual hair model's diffracting outer cylinder, else 1.
     pub fn curve_width_scale(&self) -> f32 {
         match self {
+            Material::ForceDiffuse(inner) => inner.curve_width_scale(),
             Material::Hair {
                 dual: Some((params, _)),
                 ..
@@ -206,6 +216,7 @@ impl Material {
     /// fibre from, if the material needs one ([`Self::needs_fibre_frame`]).
     pub fn axis_frame(&self) -> Option<&dual_hair::AxisFrame> {
         match self {
+            Material::ForceDiffuse(inner) => inner.axis_frame(),
             Material::Hair { axis_frame, .. } if self.needs_fibre_frame() => Some(axis_frame),
             _ => None,
         }
@@ -228,6 +239,9 @@ impl Material {
     /// (`SurfaceInteraction::fiber_reference`): an elliptical fibre of the
     /// dual hair model is oriented by it.
     pub fn needs_fibre_frame(&self) -> bool {
+        if let Material::ForceDiffuse(inner) = self {
+            return inner.needs_fibre_frame();
+        }
         matches!(self, Material::Hair { dual: Some((params, _)), .. } if params.ellipse.a != params.ellipse.b)
     }
 
@@ -382,6 +396,15 @@ impl Material {
         Ok(m)
     }
 
+    /// The material under pbrt-v4's `Option "forcediffuse"`: wrapped in
+    /// [`Material::ForceDiffuse`], except `interface` (no BSDF to replace).
+    pub fn forced_diffuse(self) -> Material {
+        match self {
+            Material::Interface | Material::ForceDiffuse(_) => self,
+            other => Material::ForceDiffuse(Box::new(other)),
+        }
+    }
+
     /// The BSDF at `si`, its textures evaluated in `ctx` (which carries
     /// the hit's screen-space differentials); `None` for `interface` (the
     /// ray continues). Dispersive materials terminate the secondary
@@ -395,6 +418,10 @@ impl Material {
         let clamp01 = |s: SampledSpectrum| s.map(|v| v.clamp(0.0, 1.0));
         let bxdf = match self {
             Material::Interface => return None,
+            Material::ForceDiffuse(inner) => {
+                let bsdf = inner.bsdf(si, ctx, lambda)?;
+                return Some(force_diffuse::diffuse_equivalent(&bsdf, si, lambda));
+            }
             Material::Diffuse { reflectance } => {
                 BxDF::Diffuse(DiffuseBxDF::new(clamp01(reflectance.evaluate(ctx, lambda))))
             }

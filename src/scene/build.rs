@@ -361,7 +361,8 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
         let b = film.crop_window_bounds(c);
         film.set_pixel_bounds(b);
     }
-    let camera = Camera::create(&scene.camera, film.full_resolution)?;
+    let camera = Camera::create(&scene.camera, film.full_resolution)?
+        .with_pixel_jitter(!scene.options.disable_pixel_jitter);
     let render_from_world = camera.transform().render_from_world;
 
     let seed = overrides.seed.unwrap_or(scene.options.seed);
@@ -426,6 +427,12 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
     for (name, m) in &scene.named_materials {
         named_index.insert(name.as_str(), materials.len() as u32);
         materials.push(Material::create(m, &textures, base)?);
+    }
+    if scene.options.force_diffuse {
+        materials = materials
+            .into_iter()
+            .map(Material::forced_diffuse)
+            .collect();
     }
     integrator.connect_diffraction &= materials.iter().any(Material::has_diffracting_ring);
     for (material, entity) in materials.iter().zip(
