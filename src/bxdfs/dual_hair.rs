@@ -769,7 +769,7 @@ mod tests {
             let a = cos_i * cos_o / v;
             let b = sin_i * sin_o / v;
             if v <= 0.1 {
-                (log_i0(a) - b - 1.0 / v + 0.6931 + (1.0 / (2.0 * v)).ln()).exp()
+                (log_i0(a) - b - 1.0 / v + std::f64::consts::LN_2 + (1.0 / (2.0 * v)).ln()).exp()
             } else {
                 (-b).exp() * i0(a) / ((1.0 / v).sinh() * 2.0 * v)
             }
