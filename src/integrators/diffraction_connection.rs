@@ -26,7 +26,8 @@
 //!
 //! Paths from a non-specular vertex through one ring to a light are made
 //! by this strategy alone; the path integrator drops the same paths when
-//! its own samples make them (see `path_li`).
+//! its own samples make them (see `path_li`), except towards a light this
+//! vertex cannot sample ([`ConnectionOrigin::covers`]).
 
 use crate::bxdfs::hair::{sample_longitudinal, Longitudinal};
 use crate::bxdfs::{TransportMode, BSDF};
