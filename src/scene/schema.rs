@@ -239,6 +239,15 @@ fn slots(category: Category, kind: &str) -> Option<[&'static [Slot]; 3]> {
             ("width1", F),
             ("splitdepth", I),
         ],
+        // rpbrt's: Cem Yuksel's HAIR files as curves (`shapes::cyhair`).
+        (Shape, "cyhair") => &[
+            ("filename", S),
+            ("scale", F),
+            ("width", F),
+            ("type", S),
+            ("basis", S),
+            ("splitdepth", I),
+        ],
         (Shape, "loopsubdiv") => &[("levels", I), ("indices", I), ("P", P3)],
         (Material, "interface" | "") => none,
         (Material, "diffuse") => &[("reflectance", ST)],

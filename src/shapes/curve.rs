@@ -34,6 +34,7 @@ use crate::interaction::SurfaceInteraction;
 use crate::math::{Bounds3, Ray, Transform};
 use crate::scene::description;
 use glam::{DVec3, Vec2, Vec3};
+use pbrt_parser::Location;
 
 /// How the curve surface is oriented.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -559,17 +560,7 @@ pub fn create_curves(
     let cps = p.point3s("P")?;
     let basis = p.string("basis", "bezier")?;
     let degree = p.int("degree", 3)?;
-    let kind = match p.string("type", "flat")?.as_str() {
-        "flat" => CurveType::Flat,
-        "cylinder" => CurveType::Cylinder,
-        "ribbon" => CurveType::Ribbon,
-        other => {
-            return scene_error(
-                format!("curve type \"{other}\" unknown (expected flat, cylinder or ribbon)"),
-                loc,
-            )
-        }
-    };
+    let kind = curve_type(&p.string("type", "flat")?, loc)?;
     let width = p.float("width", 1.0)?;
     let width0 = p.float("width0", width)? as f32;
     let width1 = p.float("width1", width)? as f32;
@@ -624,7 +615,7 @@ pub fn create_curves(
     }
     let m = render_from_object;
     // Widths are in object space: scale them by the transform's size.
-    let width_scale = glam::DMat3::from_mat4(m.matrix).determinant().abs().cbrt() as f32;
+    let width_scale = width_scale(m);
     let flip_normal = reverse_orientation ^ m.swaps_handedness();
     let to_render = |q: DVec3| m.point(q).as_vec3();
     let lerp = |t: f64, a: DVec3, b: DVec3| a + (b - a) * t;
@@ -694,16 +685,74 @@ pub fn create_curves(
             reference: [Vec3::ZERO; 2],
             fibre_frame: false,
         };
-        if segments.len() >= MAX_SEGMENTS {
-            return scene_error(
-                format!("too many curve segments: a scene may have at most {MAX_SEGMENTS}"),
-                loc,
-            );
-        }
-        let segment_index = segments.len() as u32;
-        split_into_pieces(&segment, segment_index, split_depth, pieces);
-        segments.push(segment);
+        push_segment(segment, split_depth, segments, pieces, loc)?;
     }
+    Ok(())
+}
+
+/// A curve `type` by its pbrt name.
+pub(crate) fn curve_type(name: &str, loc: &Location) -> Result<CurveType> {
+    match name {
+        "flat" => Ok(CurveType::Flat),
+        "cylinder" => Ok(CurveType::Cylinder),
+        "ribbon" => Ok(CurveType::Ribbon),
+        other => scene_error(
+            format!("curve type \"{other}\" unknown (expected flat, cylinder or ribbon)"),
+            loc,
+        ),
+    }
+}
+
+/// What object-space curve widths are multiplied by in render space: the
+/// transform's size (the cube root of its determinant).
+pub(crate) fn width_scale(render_from_object: &Transform) -> f32 {
+    glam::DMat3::from_mat4(render_from_object.matrix)
+        .determinant()
+        .abs()
+        .cbrt() as f32
+}
+
+impl CurveSegment {
+    /// A `flat` or `cylinder` segment (no ribbon normals) in render space.
+    pub(crate) fn unoriented(
+        cp: [Vec3; 4],
+        width: [f32; 2],
+        kind: CurveType,
+        flip_normal: bool,
+    ) -> Self {
+        debug_assert!(kind != CurveType::Ribbon);
+        CurveSegment {
+            cp,
+            width,
+            kind,
+            normals: [Vec3::ZERO; 2],
+            normal_angle: 0.0,
+            inv_sin_normal_angle: 0.0,
+            flip_normal,
+            reference: [Vec3::ZERO; 2],
+            fibre_frame: false,
+        }
+    }
+}
+
+/// Appends `segment` and its 2^split_depth BVH pieces; an error at `loc`
+/// past [`MAX_SEGMENTS`].
+pub(crate) fn push_segment(
+    segment: CurveSegment,
+    split_depth: u32,
+    segments: &mut Vec<CurveSegment>,
+    pieces: &mut Vec<CurvePiece>,
+    loc: &Location,
+) -> Result<()> {
+    if segments.len() >= MAX_SEGMENTS {
+        return scene_error(
+            format!("too many curve segments: a scene may have at most {MAX_SEGMENTS}"),
+            loc,
+        );
+    }
+    let segment_index = segments.len() as u32;
+    split_into_pieces(&segment, segment_index, split_depth, pieces);
+    segments.push(segment);
     Ok(())
 }
 

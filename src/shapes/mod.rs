@@ -19,6 +19,7 @@
 pub mod bilinear;
 pub mod curve;
 pub mod curve_frame;
+pub mod cyhair;
 pub mod cylinder;
 pub mod disk;
 pub mod interval;
@@ -558,6 +559,20 @@ pub fn create_shapes(
                 shape,
                 render_from_object,
                 reverse_orientation,
+                &mut storage.curve_segments,
+                &mut storage.curve_pieces,
+            )?;
+            (first..storage.curve_pieces.len() as u32)
+                .map(Shape::Curve)
+                .collect()
+        }
+        "cyhair" => {
+            let first = storage.curve_pieces.len() as u32;
+            cyhair::create_cyhair(
+                shape,
+                render_from_object,
+                reverse_orientation,
+                base_directory,
                 &mut storage.curve_segments,
                 &mut storage.curve_pieces,
             )?;
