@@ -138,7 +138,11 @@ fn diffraction_outside_the_fitted_widths_warns() {
     assert_eq!(thin.len(), 1, "{thin:?}");
     assert!(thin[0].message.contains("18 µm"), "{}", thin[0].message);
     assert!(thin[0].message.contains("50–100 µm"), "{}", thin[0].message);
-    assert!(thin[0].to_string().starts_with("hair.pbrt:3:17:"), "{}", thin[0]);
+    assert!(
+        thin[0].to_string().starts_with("hair.pbrt:3:17:"),
+        "{}",
+        thin[0]
+    );
     for quiet in [
         "Material \"hair\" \"float ellipse_a\" 30 \"float ellipse_b\" 20 \"float d_diff\" 0.5",
         "Material \"hair\" \"float ellipse_a\" 10 \"float ellipse_b\" 8",
@@ -272,7 +276,10 @@ fn ellipse_reference_orients_the_major_axis() {
         ));
         // Through the ring (the outer half of the widened curve's width).
         let (si, prim) = built
-            .intersect(&Ray::new(Vec3::new(1.5, 0.08, 0.0), Vec3::Z, 0.0), f32::INFINITY)
+            .intersect(
+                &Ray::new(Vec3::new(1.5, 0.08, 0.0), Vec3::Z, 0.0),
+                f32::INFINITY,
+            )
             .expect("the ray hits the curve");
         let mut lambda = SampledWavelengths::sample_visible(0.3);
         let bsdf = built.materials[prim.material as usize]
@@ -282,7 +289,8 @@ fn ellipse_reference_orients_the_major_axis() {
     };
     let along = forward_peak("\"vector3 ellipse_reference\" [0 0 1]");
     let across = forward_peak("\"vector3 ellipse_reference\" [0 1 0]");
-    let turned = forward_peak("\"vector3 ellipse_reference\" [0 0 1] \"float ellipse_orientation\" 90");
+    let turned =
+        forward_peak("\"vector3 ellipse_reference\" [0 0 1] \"float ellipse_orientation\" 90");
     // Only the part across the fibre counts.
     let tilted = forward_peak("\"vector3 ellipse_reference\" [5 1 0]");
     assert!((across / along - 1.5).abs() < 1e-3, "{across} / {along}");
@@ -308,14 +316,28 @@ fn random_orientation_differs_per_strand_and_not_per_view() {
     let first_front = reference(Vec3::new(1.5, 0.0, 0.0), Vec3::Z);
     let first_side = reference(Vec3::new(1.5, -3.0, 5.0), Vec3::Y);
     let second_front = reference(Vec3::new(1.5, 1.0, 0.0), Vec3::Z);
-    assert!((first_front - first_side).length() < 1e-5, "{first_front} {first_side}");
-    assert!((first_front - second_front).length() > 1e-2, "{first_front} {second_front}");
+    assert!(
+        (first_front - first_side).length() < 1e-5,
+        "{first_front} {first_side}"
+    );
+    assert!(
+        (first_front - second_front).length() > 1e-2,
+        "{first_front} {second_front}"
+    );
     for (bad, message) in [
-        ("\"vector3 ellipse_reference\" [0 0 0]", "non-zero direction"),
-        ("\"vector3 ellipse_reference\" [0 0 1] \"bool ellipse_random\" true", "exclude each other"),
+        (
+            "\"vector3 ellipse_reference\" [0 0 0]",
+            "non-zero direction",
+        ),
+        (
+            "\"vector3 ellipse_reference\" [0 0 1] \"bool ellipse_random\" true",
+            "exclude each other",
+        ),
     ] {
-        let err = build(&format!("Material \"hair\" \"float ellipse_a\" 30 \"float ellipse_b\" 20 {bad}"))
-            .expect_err(bad);
+        let err = build(&format!(
+            "Material \"hair\" \"float ellipse_a\" 30 \"float ellipse_b\" 20 {bad}"
+        ))
+        .expect_err(bad);
         assert!(err.starts_with("hair.pbrt:3:"), "{err}");
         assert!(err.contains(message), "{err}");
     }
@@ -338,7 +360,10 @@ fn curve_offset_h_is_the_mirror_of_the_trace_convention() {
         (Vec3::new(1.5, 0.03, 0.0), Vec3::Z),
         (Vec3::new(1.5, -0.03, 0.0), Vec3::Z),
         (Vec3::new(1.2, 3.0, 5.02), -Vec3::Y),
-        (Vec3::new(1.7, 3.0, 4.96), Vec3::new(0.3, -1.0, 0.0).normalize()),
+        (
+            Vec3::new(1.7, 3.0, 4.96),
+            Vec3::new(0.3, -1.0, 0.0).normalize(),
+        ),
     ] {
         let (si, _) = scene
             .intersect(&Ray::new(origin, direction, 0.0), f32::INFINITY)
@@ -376,7 +401,10 @@ fn the_fibre_reflects_where_the_ray_meets_it() {
     // The true cross-section in the (y, z) plane: centre (0, 5), semi-axes
     // A along (1, 1)/√2 and B across, scaled so that the width seen along
     // z is the curve's 0.1.
-    let (major, minor) = (Vec2::new(1.0, 1.0).normalize(), Vec2::new(-1.0, 1.0).normalize());
+    let (major, minor) = (
+        Vec2::new(1.0, 1.0).normalize(),
+        Vec2::new(-1.0, 1.0).normalize(),
+    );
     let k = 0.05 / (30.0f32 * 30.0 * 0.5 + 20.0 * 20.0 * 0.5).sqrt();
     let (a, b) = (30.0 * k, 20.0 * k);
     for y0 in [-0.03f32, -0.01, 0.02, 0.035] {
@@ -391,7 +419,11 @@ fn the_fibre_reflects_where_the_ray_meets_it() {
         }
         for _ in 0..60 {
             let mid = 0.5 * (lo + hi);
-            if q(mid) > 0.0 { lo = mid } else { hi = mid }
+            if q(mid) > 0.0 {
+                lo = mid
+            } else {
+                hi = mid
+            }
         }
         let d = Vec2::new(y0, hi - 5.0);
         let n = (major * (d.dot(major) / (a * a)) + minor * (d.dot(minor) / (b * b))).normalize();
@@ -400,7 +432,10 @@ fn the_fibre_reflects_where_the_ray_meets_it() {
         let expected = reflected.y.atan2(reflected.x);
 
         let (si, prim) = scene
-            .intersect(&Ray::new(Vec3::new(1.5, y0, 0.0), Vec3::Z, 0.0), f32::INFINITY)
+            .intersect(
+                &Ray::new(Vec3::new(1.5, y0, 0.0), Vec3::Z, 0.0),
+                f32::INFINITY,
+            )
             .expect("a hit");
         let mut lambda = SampledWavelengths::sample_visible(0.3);
         let bsdf = scene.materials[prim.material as usize]
@@ -410,7 +445,8 @@ fn the_fibre_reflects_where_the_ray_meets_it() {
         for i in 0..7200 {
             let angle = -std::f32::consts::PI + i as f32 * (std::f32::consts::TAU / 7200.0);
             let wi = Vec3::new(0.0, angle.cos(), angle.sin());
-            let value = bsdf.f(si.wo, wi, TransportMode::Radiance).average() * wi.dot(si.shading.n).abs();
+            let value =
+                bsdf.f(si.wo, wi, TransportMode::Radiance).average() * wi.dot(si.shading.n).abs();
             if value > best {
                 (best, best_angle) = (value, angle);
             }
@@ -448,14 +484,26 @@ fn dual_parameters_map_to_the_model() {
     );
     assert_eq!(
         settings(&format!("{base} \"string variant\" \"paper\"")),
-        (Variant::Paper, InternalFresnel::Paper, Diffraction::Logistic)
+        (
+            Variant::Paper,
+            InternalFresnel::Paper,
+            Diffraction::Logistic
+        )
     );
     assert_eq!(
-        settings(&format!("{base} \"string variant\" \"paper\" \"string internal_fresnel\" \"pbrt\"")),
+        settings(&format!(
+            "{base} \"string variant\" \"paper\" \"string internal_fresnel\" \"pbrt\""
+        )),
         (Variant::Paper, InternalFresnel::Pbrt, Diffraction::Logistic)
     );
     assert_eq!(
-        settings(&format!("{base} \"string internal_fresnel\" \"paper\" \"string diffraction\" \"spectral\"")),
-        (Variant::Exact, InternalFresnel::Paper, Diffraction::Spectral)
+        settings(&format!(
+            "{base} \"string internal_fresnel\" \"paper\" \"string diffraction\" \"spectral\""
+        )),
+        (
+            Variant::Exact,
+            InternalFresnel::Paper,
+            Diffraction::Spectral
+        )
     );
 }

@@ -67,10 +67,19 @@ WorldBegin
 fn render(name: &str, scene: &str, spp: u32) -> (Vec<f64>, u64) {
     let (image, report) =
         common::render_text_with_report(name, scene, spp, 2, RenderOverrides::default());
-    assert!(image.first_non_finite().is_none(), "{name}: a non-finite pixel");
+    assert!(
+        image.first_non_finite().is_none(),
+        "{name}: a non-finite pixel"
+    );
     let pixels = (0..image.height())
         .flat_map(|y| (0..image.width()).map(move |x| (x, y)))
-        .map(|(x, y)| image.pixel(x, y)[..3].iter().map(|&v| v as f64).sum::<f64>() / 3.0)
+        .map(|(x, y)| {
+            image.pixel(x, y)[..3]
+                .iter()
+                .map(|&v| v as f64)
+                .sum::<f64>()
+                / 3.0
+        })
         .collect();
     (pixels, report.bad_samples)
 }
@@ -171,7 +180,14 @@ fn paper_albedo_over_hits(samples: usize) -> f64 {
         };
         let (cos_o, phi_o) = ((1.0 - sin_o * sin_o).sqrt(), 2.0 * PI * next());
         let wo = Vec3::new(sin_o, cos_o * phi_o.cos(), cos_o * phi_o.sin());
-        let base = HairBxDF::new(2.0 * next() - 1.0, 1.55, SampledSpectrum([0.0; 4]), 0.3, 0.3, 2.0);
+        let base = HairBxDF::new(
+            2.0 * next() - 1.0,
+            1.55,
+            SampledSpectrum([0.0; 4]),
+            0.3,
+            0.3,
+            2.0,
+        );
         let bxdf = DualHairBxDF::new(base, params, Vec2::X, [450.0, 520.0, 590.0, 660.0]);
         let wi = if i % 2 == 0 {
             uniform_sphere(Vec2::new(next(), next()))
@@ -197,8 +213,16 @@ fn paper_variant_darkens_the_furnace_as_its_albedo_says() {
     let deep = "Integrator \"path\" \"integer maxdepth\" [100]\n";
     let paper = "Material \"hair\" \"rgb sigma_a\" [0 0 0] \"float ellipse_a\" [30] \"float ellipse_b\" [20] \"string variant\" \"paper\" \"bool ellipse_random\" true";
     let black = "Material \"diffuse\" \"rgb reflectance\" [0 0 0]";
-    let (fibres, _) = render("paper", &fibres_of_width(paper, lights, 300, deep, 0.0003), 256);
-    let (silhouette, _) = render("black", &fibres_of_width(black, lights, 300, deep, 0.0003), 256);
+    let (fibres, _) = render(
+        "paper",
+        &fibres_of_width(paper, lights, 300, deep, 0.0003),
+        256,
+    );
+    let (silhouette, _) = render(
+        "black",
+        &fibres_of_width(black, lights, 300, deep, 0.0003),
+        256,
+    );
     let coverage = 1.0 - mean(&silhouette);
     let albedo = paper_albedo_over_hits(400_000);
     let predicted = 1.0 - coverage * (1.0 - albedo);

@@ -61,7 +61,13 @@ fn pixels(image: &Image) -> Vec<f64> {
     let (w, h) = (image.width(), image.height());
     (0..h)
         .flat_map(|y| (0..w).map(move |x| (x, y)))
-        .map(|(x, y)| image.pixel(x, y)[..3].iter().map(|&v| v as f64).sum::<f64>() / 3.0)
+        .map(|(x, y)| {
+            image.pixel(x, y)[..3]
+                .iter()
+                .map(|&v| v as f64)
+                .sum::<f64>()
+                / 3.0
+        })
         .collect()
 }
 

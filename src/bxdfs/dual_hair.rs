@@ -741,7 +741,15 @@ mod tests {
     /// Φ(p) = 2pγ_t − 2γ_o + pπ, the cuticle tilts, the residual's
     /// M_3 A_3 / 2π), written here in f64 from the equations, apart from
     /// the crate's port in `hair.rs`. One wavelength's σ_a.
-    fn pbrt_published_f(h: f64, sigma_a: f64, beta_m: f64, beta_n: f64, alpha_deg: f64, wo: [f64; 3], wi: [f64; 3]) -> f64 {
+    fn pbrt_published_f(
+        h: f64,
+        sigma_a: f64,
+        beta_m: f64,
+        beta_n: f64,
+        alpha_deg: f64,
+        wo: [f64; 3],
+        wi: [f64; 3],
+    ) -> f64 {
         use std::f64::consts::PI;
         let eta = 1.55f64;
         let sq = |x: f64| x * x;
@@ -822,9 +830,18 @@ mod tests {
         let mut sum = 0.0;
         for p in 0..3 {
             let (sin_op, cos_op) = match p {
-                0 => (sin_o * cos2k[1] - cos_o * sin2k[1], cos_o * cos2k[1] + sin_o * sin2k[1]),
-                1 => (sin_o * cos2k[0] + cos_o * sin2k[0], cos_o * cos2k[0] - sin_o * sin2k[0]),
-                _ => (sin_o * cos2k[2] + cos_o * sin2k[2], cos_o * cos2k[2] - sin_o * sin2k[2]),
+                0 => (
+                    sin_o * cos2k[1] - cos_o * sin2k[1],
+                    cos_o * cos2k[1] + sin_o * sin2k[1],
+                ),
+                1 => (
+                    sin_o * cos2k[0] + cos_o * sin2k[0],
+                    cos_o * cos2k[0] - sin_o * sin2k[0],
+                ),
+                _ => (
+                    sin_o * cos2k[2] + cos_o * sin2k[2],
+                    cos_o * cos2k[2] - sin_o * sin2k[2],
+                ),
             };
             let big_phi = 2.0 * p as f64 * gamma_t - 2.0 * gamma_o + p as f64 * PI;
             let mut dphi = phi - big_phi;

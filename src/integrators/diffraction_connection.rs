@@ -147,12 +147,7 @@ fn light_at_ring(
             Some((ls.l.value(lambda), ls.wi, ls.p_light, at_infinity))
         }
         // The direction drawn at x, from y too.
-        LightKind::Infinite => Some((
-            seed.l.value(lambda) / seed.pdf,
-            seed.wi,
-            seed.p_light,
-            true,
-        )),
+        LightKind::Infinite => Some((seed.l.value(lambda) / seed.pdf, seed.wi, seed.p_light, true)),
         // The point z drawn at x: its density over area is the solid-angle
         // density times cos_z / r², and a diffuse emitter's radiance is the
         // same towards y (on the same side).

@@ -142,9 +142,9 @@ pub fn path_li(
                 let le = area.l(si.n, si.wo, lambda);
                 if le.is_nonzero() && skip_emission {
                     let origin = connected_from.as_ref();
-                    if origin.is_some_and(|o| {
-                        !o.covers(scene, light_index as usize, Some(&si), si.wo)
-                    }) {
+                    if origin
+                        .is_some_and(|o| !o.covers(scene, light_index as usize, Some(&si), si.wo))
+                    {
                         l += beta * le;
                     }
                 } else if le.is_nonzero() {

@@ -73,12 +73,7 @@ pub fn read_axis_frame(p: &ParamSet) -> Result<AxisFrame> {
                 }
                 Some(v)
             }
-            _ => {
-                return scene_error(
-                    "\"ellipse_reference\" takes one direction",
-                    &param.location,
-                )
-            }
+            _ => return scene_error("\"ellipse_reference\" takes one direction", &param.location),
         },
     };
     Ok(AxisFrame { reference, random })

@@ -435,12 +435,10 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
             .collect();
     }
     integrator.connect_diffraction &= materials.iter().any(Material::has_diffracting_ring);
-    for (material, entity) in materials.iter().zip(
-        scene
-            .materials
-            .iter()
-            .chain(scene.named_materials.values()),
-    ) {
+    for (material, entity) in materials
+        .iter()
+        .zip(scene.materials.iter().chain(scene.named_materials.values()))
+    {
         if let Some(warning) = dual_hair_width_warning(material, entity)? {
             warnings.push(warning);
         }
@@ -694,7 +692,10 @@ fn dual_hair_width_warning(material: &Material, entity: &Entity) -> Result<Optio
     if params.d_diff == 0.0 || DIFFRACTION_WIDTHS_UM.contains(&diameter) {
         return Ok(None);
     }
-    let location = match entity.params.find("ellipse_a", &[pbrt_parser::ParamType::Float])? {
+    let location = match entity
+        .params
+        .find("ellipse_a", &[pbrt_parser::ParamType::Float])?
+    {
         Some(param) => param.location.clone(),
         None => entity.location.0.clone(),
     };

@@ -220,7 +220,10 @@ mod tests {
         let angles: Vec<f32> = (0..4000).map(|i| strand_angle(100 * i)).collect();
         for quarter in 0..4 {
             let lo = quarter as f32 * std::f32::consts::FRAC_PI_2;
-            let n = angles.iter().filter(|&&x| x >= lo && x < lo + std::f32::consts::FRAC_PI_2).count();
+            let n = angles
+                .iter()
+                .filter(|&&x| x >= lo && x < lo + std::f32::consts::FRAC_PI_2)
+                .count();
             assert!((900..1100).contains(&n), "{quarter}: {n}");
         }
     }

@@ -421,8 +421,14 @@ mod tests {
         let sigma_a = [0.419f64, 0.697, 1.37].iter().sum::<f64>() * 1.3 / 3.0;
         let (tt_closed, trt_closed) = closed_form_f1_over_f0(sigma_a);
         eprintln!("Fig. 4, f1 over f0: TT {tt:.4} (closed form {tt_closed:.4}), TRT {trt:.4} (closed form {trt_closed:.4})");
-        assert!((tt / tt_closed - 1.0).abs() < 0.005, "TT ratio {tt} against {tt_closed}");
-        assert!((trt / trt_closed - 1.0).abs() < 0.005, "TRT ratio {trt} against {trt_closed}");
+        assert!(
+            (tt / tt_closed - 1.0).abs() < 0.005,
+            "TT ratio {tt} against {tt_closed}"
+        );
+        assert!(
+            (trt / trt_closed - 1.0).abs() < 0.005,
+            "TRT ratio {trt} against {trt_closed}"
+        );
         // The whole: per-cell change where it is at least a tenth of its peak.
         let total = column("total");
         let peak = f0.maps[total].iter().cloned().fold(0.0f32, f32::max);
