@@ -16,6 +16,27 @@ fn built(body: &str) -> scene::build::BuiltScene {
     scene::build::build(&loaded.scene, &RenderOverrides::default()).expect("builds")
 }
 
+/// The hit of the ray from `origin` along +z and the BSDF there (at
+/// wavelengths drawn with 0.3).
+fn bsdf_at(
+    scene: &scene::build::BuiltScene,
+    origin: glam::Vec3,
+) -> (rpbrt::interaction::SurfaceInteraction, rpbrt::bxdfs::BSDF) {
+    let ray = rpbrt::math::ray::Ray::new(origin, glam::Vec3::Z, 0.0);
+    let (si, prim) = scene
+        .intersect(&ray, f32::INFINITY)
+        .expect("the ray hits the curve");
+    let mut lambda = rpbrt::spectrum::SampledWavelengths::sample_visible(0.3);
+    let bsdf = scene.materials[prim.material as usize]
+        .bsdf(
+            &si,
+            &rpbrt::textures::TextureEvalContext::at(&si),
+            &mut lambda,
+        )
+        .expect("a BSDF");
+    (si, bsdf)
+}
+
 fn build(material: &str) -> Result<(), String> {
     let text = format!("{HEADER}{material}\nShape \"curve\" \"point3 P\" [ 0 0 0  1 0 0  2 0 0  3 0 0 ] \"float width\" 0.1\n");
     let loaded = scene::load_text(Path::new("hair.pbrt"), &text).map_err(|e| e.to_string())?;
@@ -207,21 +228,9 @@ fn elliptical_fibres_get_a_view_independent_reference() {
 fn constant_and_textured_roughness_give_the_same_hair_bsdf() {
     use glam::Vec3;
     use rpbrt::bxdfs::TransportMode;
-    use rpbrt::math::ray::Ray;
-    use rpbrt::spectrum::SampledWavelengths;
-    use rpbrt::textures::TextureEvalContext;
     let f = |material: &str| {
         let built = built(&format!("Texture \"half\" \"float\" \"scale\" \"float tex\" 0.8 \"float scale\" 0.5\nTexture \"tiny\" \"float\" \"scale\" \"float tex\" 0.002 \"float scale\" 0.5\n{material}\n{CURVE}"));
-        let (si, prim) = built
-            .intersect(
-                &Ray::new(Vec3::new(1.5, 0.02, 0.0), Vec3::Z, 0.0),
-                f32::INFINITY,
-            )
-            .expect("the ray hits the curve");
-        let mut lambda = SampledWavelengths::sample_visible(0.3);
-        let bsdf = built.materials[prim.material as usize]
-            .bsdf(&si, &TextureEvalContext::at(&si), &mut lambda)
-            .expect("a BSDF");
+        let (si, bsdf) = bsdf_at(&built, Vec3::new(1.5, 0.02, 0.0));
         // Across the strand, and straight through it (where TT peaks even
         // for the narrowest lobes).
         [Vec3::new(0.3, -0.2, -0.9), Vec3::new(0.0, 0.05, 1.0)]
@@ -267,24 +276,12 @@ fn s_diff_sets_the_diffraction_lobe_scale() {
 fn ellipse_reference_orients_the_major_axis() {
     use glam::Vec3;
     use rpbrt::bxdfs::TransportMode;
-    use rpbrt::math::ray::Ray;
-    use rpbrt::spectrum::SampledWavelengths;
-    use rpbrt::textures::TextureEvalContext;
     let forward_peak = |frame: &str| {
         let built = built(&format!(
             "Material \"hair\" \"float ellipse_a\" 30 \"float ellipse_b\" 20 \"float d_diff\" 1 {frame}\n{CURVE}"
         ));
         // Through the ring (the outer half of the widened curve's width).
-        let (si, prim) = built
-            .intersect(
-                &Ray::new(Vec3::new(1.5, 0.08, 0.0), Vec3::Z, 0.0),
-                f32::INFINITY,
-            )
-            .expect("the ray hits the curve");
-        let mut lambda = SampledWavelengths::sample_visible(0.3);
-        let bsdf = built.materials[prim.material as usize]
-            .bsdf(&si, &TextureEvalContext::at(&si), &mut lambda)
-            .expect("a BSDF");
+        let (si, bsdf) = bsdf_at(&built, Vec3::new(1.5, 0.08, 0.0));
         bsdf.f(si.wo, Vec3::Z, TransportMode::Radiance).average()
     };
     let along = forward_peak("\"vector3 ellipse_reference\" [0 0 1]");
@@ -392,9 +389,6 @@ fn curve_offset_h_is_the_mirror_of_the_trace_convention() {
 fn the_fibre_reflects_where_the_ray_meets_it() {
     use glam::{Vec2, Vec3};
     use rpbrt::bxdfs::TransportMode;
-    use rpbrt::math::ray::Ray;
-    use rpbrt::spectrum::SampledWavelengths;
-    use rpbrt::textures::TextureEvalContext;
     let scene = built(&format!(
         "Material \"hair\" \"float ellipse_a\" 30 \"float ellipse_b\" 20 \"vector3 ellipse_reference\" [0 1 1] \"float eumelanin\" 50 \"float beta_m\" 0.05 \"float beta_n\" 0.05 \"float alpha\" 0\n{CURVE}"
     ));
@@ -414,7 +408,7 @@ fn the_fibre_reflects_where_the_ray_meets_it() {
             (d.dot(major) / a).powi(2) + (d.dot(minor) / b).powi(2) - 1.0
         };
         let (mut lo, mut hi) = (4.9f32, 5.0f32);
-        while q(5.0 - 0.0) < 0.0 && q(lo) < 0.0 {
+        while q(lo) < 0.0 {
             lo -= 0.01;
         }
         for _ in 0..60 {
@@ -431,16 +425,7 @@ fn the_fibre_reflects_where_the_ray_meets_it() {
         let reflected = incoming - 2.0 * incoming.dot(n) * n;
         let expected = reflected.y.atan2(reflected.x);
 
-        let (si, prim) = scene
-            .intersect(
-                &Ray::new(Vec3::new(1.5, y0, 0.0), Vec3::Z, 0.0),
-                f32::INFINITY,
-            )
-            .expect("a hit");
-        let mut lambda = SampledWavelengths::sample_visible(0.3);
-        let bsdf = scene.materials[prim.material as usize]
-            .bsdf(&si, &TextureEvalContext::at(&si), &mut lambda)
-            .expect("a BSDF");
+        let (si, bsdf) = bsdf_at(&scene, Vec3::new(1.5, y0, 0.0));
         let (mut best, mut best_angle) = (0.0f32, 0.0f32);
         for i in 0..7200 {
             let angle = -std::f32::consts::PI + i as f32 * (std::f32::consts::TAU / 7200.0);

@@ -67,20 +67,7 @@ WorldBegin
 fn render(name: &str, scene: &str, spp: u32) -> (Vec<f64>, u64) {
     let (image, report) =
         common::render_text_with_report(name, scene, spp, 2, RenderOverrides::default());
-    assert!(
-        image.first_non_finite().is_none(),
-        "{name}: a non-finite pixel"
-    );
-    let pixels = (0..image.height())
-        .flat_map(|y| (0..image.width()).map(move |x| (x, y)))
-        .map(|(x, y)| {
-            image.pixel(x, y)[..3]
-                .iter()
-                .map(|&v| v as f64)
-                .sum::<f64>()
-                / 3.0
-        })
-        .collect();
+    let pixels = common::channel_averages(&image);
     (pixels, report.bad_samples)
 }
 

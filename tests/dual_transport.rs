@@ -10,8 +10,6 @@
 
 mod common;
 
-use rpbrt::image::Image;
-
 #[derive(Clone, Copy, Debug)]
 enum Lighting {
     Distant,
@@ -55,22 +53,6 @@ Material \"hair\" \"float eumelanin\" [8] \"float ellipse_a\" [30] \"float ellip
     s + "AttributeEnd\n"
 }
 
-/// The image's pixel values (the channels' average); every pixel finite.
-fn pixels(image: &Image) -> Vec<f64> {
-    assert!(image.first_non_finite().is_none(), "non-finite pixel");
-    let (w, h) = (image.width(), image.height());
-    (0..h)
-        .flat_map(|y| (0..w).map(move |x| (x, y)))
-        .map(|(x, y)| {
-            image.pixel(x, y)[..3]
-                .iter()
-                .map(|&v| v as f64)
-                .sum::<f64>()
-                / 3.0
-        })
-        .collect()
-}
-
 /// The region's mean and its pixels' standard deviation over that mean
 /// (the stripes the curtain casts and the noise together).
 fn region_stats(values: &[f64]) -> (f64, f64) {
@@ -94,7 +76,7 @@ fn render(name: &str, scene: &str, spp: u32, seed: i32) -> Vec<f64> {
         seed: Some(seed),
         ..Default::default()
     };
-    pixels(&common::render_text(name, scene, spp, 2, overrides))
+    common::channel_averages(&common::render_text(name, scene, spp, 2, overrides))
 }
 
 /// At 64 spp, d_diff 1 is at most 1.4× as noisy as d_diff 0, both as the

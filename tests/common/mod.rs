@@ -85,3 +85,19 @@ pub fn render_text_with_report(
     std::fs::remove_dir_all(&dir).ok();
     (image, report)
 }
+
+/// An image's pixel values (each the average of its R, G, B), row by row;
+/// every value must be finite.
+pub fn channel_averages(image: &rpbrt::image::Image) -> Vec<f64> {
+    assert!(image.first_non_finite().is_none(), "a non-finite pixel");
+    (0..image.height())
+        .flat_map(|y| (0..image.width()).map(move |x| (x, y)))
+        .map(|(x, y)| {
+            image.pixel(x, y)[..3]
+                .iter()
+                .map(|&v| v as f64)
+                .sum::<f64>()
+                / 3.0
+        })
+        .collect()
+}
