@@ -2,7 +2,9 @@
 //! command's arguments and work are in `rpbrt::tools`.
 
 use clap::Parser as _;
-use rpbrt::tools::{bcsdf, convergence, imgtool, render_scene, report};
+use rpbrt::tools::{
+    bcsdf, convergence, cyhair2pbrt, hairgen, imgtool, render_scene, report, reproduce,
+};
 use std::process::ExitCode;
 
 /// Renders pbrt-v4 scenes (pbrt-v3 scenes are read too): `rpbrt FILE
@@ -30,6 +32,12 @@ enum Command {
     Report(report::ReportArgs),
     /// The dual hair model's azimuthal scattering maps and diffraction spectra.
     Bcsdf(bcsdf::BcsdfArgs),
+    /// Writes a CyHair (.hair) file as pbrt-v4 curves.
+    Cyhair2pbrt(cyhair2pbrt::Cyhair2pbrtArgs),
+    /// Grows hair or fur from a recipe and writes it as pbrt-v4 curves.
+    Hairgen(hairgen::HairgenArgs),
+    /// Renders the paper's figures (Benamira & Pattanaik 2021) with a page of results.
+    Reproduce(reproduce::ReproduceArgs),
 }
 
 fn main() -> ExitCode {
@@ -56,6 +64,9 @@ fn main() -> ExitCode {
                 .map_err(rpbrt::error::Error::Usage),
             1,
         ),
+        Some(Command::Cyhair2pbrt(args)) => (cyhair2pbrt::run(args).map(|()| ExitCode::SUCCESS), 1),
+        Some(Command::Hairgen(args)) => (hairgen::run(args).map(|()| ExitCode::SUCCESS), 1),
+        Some(Command::Reproduce(args)) => (reproduce::run(args).map(|()| ExitCode::SUCCESS), 1),
     };
     outcome.unwrap_or_else(|e| {
         eprintln!("error: {e}");

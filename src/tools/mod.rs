@@ -5,8 +5,10 @@
 pub mod bcsdf;
 pub mod convergence;
 pub mod curvegen;
+pub mod cyhair2pbrt;
 pub mod dual_overhead;
 pub mod flip;
+pub mod hairgen;
 pub mod heat_map;
 pub mod imgdiff;
 pub mod imgtool;
@@ -14,6 +16,7 @@ pub mod peak_memory;
 pub mod plot;
 pub mod render_scene;
 pub mod report;
+pub mod reproduce;
 pub mod steal;
 
 /// Maps an I/O error on `path` to the crate's error, naming the path.
