@@ -43,16 +43,16 @@ pub struct RgbFilm {
 
 impl RgbFilm {
     /// `exposure_time`: the camera's shutter interval. `outfile` overrides
-    /// the scene's file name (`--outfile`). `quick` (`--quick`) divides the
-    /// resolution by 4 in each axis first, as pbrt-v4 does, so the film's
-    /// own `pixelbounds` are clipped to, and its `cropwindow` taken of, the
-    /// reduced image.
+    /// the scene's file name (`--outfile`). The resolution is divided by
+    /// `resolution_divisor` in each axis first (4 for `--quick`, as pbrt-v4
+    /// does), so the film's own `pixelbounds` are clipped to, and its
+    /// `cropwindow` taken of, the reduced image.
     pub fn create(
         entity: &Entity,
         exposure_time: f32,
         outfile: Option<PathBuf>,
         base_directory: &std::path::Path,
-        quick: bool,
+        resolution_divisor: i32,
     ) -> Result<Self> {
         let p = &entity.params;
         let loc = &entity.location.0;
@@ -73,11 +73,7 @@ impl RgbFilm {
                 loc,
             );
         }
-        let full = if quick {
-            (IVec2::new(xres, yres) / 4).max(IVec2::ONE)
-        } else {
-            IVec2::new(xres, yres)
-        };
+        let full = (IVec2::new(xres, yres) / resolution_divisor.max(1)).max(IVec2::ONE);
         let mut bounds = (IVec2::ZERO, full);
         let pb = p.ints("pixelbounds")?;
         match pb.len() {

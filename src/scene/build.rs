@@ -38,6 +38,9 @@ pub struct RenderOverrides {
     /// (the film's own bounds taken of the reduced image) and 1 sample per
     /// pixel, over `spp`.
     pub quick: bool,
+    /// Divides the film's resolution in each axis (not a pbrt-v4 flag: for
+    /// `rpbrt reproduce`'s previews); `--quick` uses 4.
+    pub resolution_divisor: Option<u32>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -352,7 +355,11 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
         exposure,
         overrides.outfile.clone(),
         base,
-        overrides.quick,
+        if overrides.quick {
+            4
+        } else {
+            overrides.resolution_divisor.unwrap_or(1).min(i32::MAX as u32) as i32
+        },
     )?;
     if let Some([x0, x1, y0, y1]) = overrides.pixel_bounds {
         film.set_pixel_bounds((IVec2::new(x0, y0), IVec2::new(x1, y1)));

@@ -155,6 +155,7 @@ fn overrides(cli: &RenderArgs) -> Result<RenderOverrides, Error> {
             .map(pixel_window::pixel_bounds)
             .transpose()?,
         quick: cli.quick,
+        resolution_divisor: None,
     })
 }
 
