@@ -119,7 +119,9 @@ fn place<'s>(
     let material = &context.materials[placed.material as usize];
     // The ring is an outer cylinder around a fibre: on a surface the
     // BSDF would shrink the fibre to the middle of h with no ring around it.
-    if material.has_diffracting_ring() && !matches!(shape.entity.kind.as_str(), "curve") {
+    if material.has_diffracting_ring()
+        && !matches!(shape.entity.kind.as_str(), "curve" | "bcurve" | "cyhair")
+    {
         return scene_error(
             format!(
                 "a hair material with \"d_diff\" > 0 (a diffracting ring around the fibre) needs a curve, not a \"{}\" shape",
@@ -144,18 +146,21 @@ fn place<'s>(
         storage.scale_curve_widths(&placed.shapes, widening);
     }
     if let Some(axis) = material.axis_frame() {
-        let frame = match (axis.reference, axis.random) {
-            (Some(v), _) => FibreFrame::Toward(
-                context
-                    .render_from_world
-                    .to_mat4()
-                    .transform_vector3(v)
-                    .normalize(),
-            ),
-            (None, true) => FibreFrame::Turned(strand_angle(loc.offset)),
+        let toward = axis.reference.map(|v| {
+            context
+                .render_from_world
+                .to_mat4()
+                .transform_vector3(v)
+                .normalize()
+        });
+        // Strand k of the shape (a `cyhair` shape has one per strand of its
+        // file; a `Shape "curve"` only strand 0).
+        let frame_of = |strand: usize| match (toward, axis.random) {
+            (Some(v), _) => FibreFrame::Toward(v),
+            (None, true) => FibreFrame::Turned(strand_angle(loc.offset, strand)),
             (None, false) => FibreFrame::Transported,
         };
-        storage.set_fibre_frames(&placed.shapes, frame);
+        storage.set_fibre_frames(&placed.shapes, frame_of);
     }
     placed.area_light = match shape.area_light {
         Some(_) if matches!(material, Material::Interface) => {

@@ -66,6 +66,11 @@ pub struct CurveSegment {
     /// elliptical fibre's orientation; `ShapeStorage::set_fibre_frames`).
     /// pbrt's hair needs none, so its hits skip the interpolation.
     pub fibre_frame: bool,
+    /// Whether a strand starts here: the first segment of a `Shape
+    /// "curve"`, or of each strand of a `cyhair` shape. A strand's frame
+    /// (`ShapeStorage::set_fibre_frames`) runs from its first segment to
+    /// the next that starts a strand. (Fits in the struct's padding.)
+    pub strand_start: bool,
 }
 
 /// A piece [u0, u1] of a segment: the BVH primitive.
@@ -652,12 +657,7 @@ pub fn create_curves(
             }
         };
         let cp = bez.map(to_render);
-        let t0 = seg as f32 / segments_count as f32;
-        let t1 = (seg + 1) as f32 / segments_count as f32;
-        let w = [
-            (width0 + (width1 - width0) * t0) * width_scale,
-            (width0 + (width1 - width0) * t1) * width_scale,
-        ];
+        let w = segment_widths(width0, width1, seg, segments_count).map(|w| w * width_scale);
         let (normals_render, angle) = if kind == CurveType::Ribbon {
             let nt = |v: DVec3| {
                 m.inverse
@@ -684,10 +684,26 @@ pub fn create_curves(
             flip_normal,
             reference: [Vec3::ZERO; 2],
             fibre_frame: false,
+            strand_start: seg == 0,
         };
         push_segment(segment, split_depth, segments, pieces, loc)?;
     }
     Ok(())
+}
+
+/// The object-space widths at the ends of segment `seg` of a curve of
+/// `count` segments whose `width0` and `width1` are given: linear in the
+/// segment index, as pbrt-v4's `Curve::Create` (which writes the lerp as
+/// (1 − t)·w0 + t·w1; this form, rpbrt's from the start, can differ from
+/// it in the last bit). The `cyhair` shape takes its widths from here too,
+/// so a file written by `cyhair2pbrt` gives the same widths bit for bit.
+pub(crate) fn segment_widths(width0: f32, width1: f32, seg: usize, count: usize) -> [f32; 2] {
+    let t0 = seg as f32 / count as f32;
+    let t1 = (seg + 1) as f32 / count as f32;
+    [
+        width0 + (width1 - width0) * t0,
+        width0 + (width1 - width0) * t1,
+    ]
 }
 
 /// A curve `type` by its pbrt name.
@@ -719,6 +735,7 @@ impl CurveSegment {
         width: [f32; 2],
         kind: CurveType,
         flip_normal: bool,
+        strand_start: bool,
     ) -> Self {
         debug_assert!(kind != CurveType::Ribbon);
         CurveSegment {
@@ -731,6 +748,7 @@ impl CurveSegment {
             flip_normal,
             reference: [Vec3::ZERO; 2],
             fibre_frame: false,
+            strand_start,
         }
     }
 }
@@ -872,6 +890,7 @@ mod tests {
             flip_normal: false,
             reference: [Vec3::ZERO; 2],
             fibre_frame: false,
+            strand_start: true,
         };
         let mut pieces = Vec::new();
         split_into_pieces(&s, 0, split_depth, &mut pieces);
@@ -1019,8 +1038,8 @@ mod tests {
                     // Grazing the edge of the width: both are right within
                     // precision.
                     (a, b) => {
-                        let near_edge = b.map_or(true, |(_, _, d)| d > 0.499)
-                            && a.map_or(true, |h| (h.v - 0.5).abs() > 0.499);
+                        let near_edge = b.is_none_or(|(_, _, d)| d > 0.499)
+                            && a.is_none_or(|h| (h.v - 0.5).abs() > 0.499);
                         assert!(near_edge, "ours {a:?} vs reference {b:?}");
                     }
                 }

@@ -8,8 +8,10 @@
 //! (parallel-transported) frame computed once per strand at build time by
 //! the double-reflection method (Wang, Jüttler, Zheng & Liu 2008), started
 //! from a direction fixed by the first tangent (turned by an angle drawn
-//! per strand for `Random`), sampled at each segment's ends and carried
+//! per strand for `Turned`), sampled at each segment's ends and carried
 //! across segments, so it is continuous and twist-free along the strand.
+//! A strand is a `Shape "curve"`, or one strand of a `cyhair` shape's file
+//! (`CurveSegment::strand_start` marks where each begins).
 //! At a hit it is interpolated; the material takes its part across the
 //! fibre.
 
@@ -36,12 +38,18 @@ pub enum FibreFrame {
     Turned(f32),
 }
 
-/// An angle in [0, 2π) drawn for the strand whose `Shape` directive starts
-/// at byte `offset` of its file (deterministic, independent of the build's
-/// order).
-pub fn strand_angle(offset: usize) -> f32 {
+/// An angle in [0, 2π) drawn for strand `strand` of the shape whose
+/// `Shape` directive starts at byte `offset` of its file (deterministic,
+/// independent of the build's order). A `Shape "curve"` is strand 0; a
+/// `cyhair` shape's strands are numbered in file order.
+pub fn strand_angle(offset: usize, strand: usize) -> f32 {
     // SplitMix64's finaliser: consecutive offsets give unrelated angles.
-    let mut z = (offset as u64).wrapping_add(0x9e37_79b9_7f4a_7c15);
+    // Strand 0 hashes the offset alone (the angles of `Shape "curve"`s
+    // stay what they were); the strand index is spread by an odd 64-bit
+    // constant so that a file's strands do not land on the offsets of
+    // shapes a few bytes further on.
+    let key = (offset as u64).wrapping_add((strand as u64).wrapping_mul(0xd1b5_4a32_d192_ed03));
+    let mut z = key.wrapping_add(0x9e37_79b9_7f4a_7c15);
     z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
     z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
     z ^= z >> 31;
@@ -146,6 +154,7 @@ mod tests {
             flip_normal: false,
             reference: [Vec3::ZERO; 2],
             fibre_frame: false,
+            strand_start: false,
         }
     }
 
@@ -217,14 +226,18 @@ mod tests {
         set_frame(&mut b, FibreFrame::Turned(1.0));
         let cos = a[0].reference[0].dot(b[0].reference[0]);
         assert!((cos - 1.0f32.cos()).abs() < 1e-5, "{cos}");
-        let angles: Vec<f32> = (0..4000).map(|i| strand_angle(100 * i)).collect();
-        for quarter in 0..4 {
-            let lo = quarter as f32 * std::f32::consts::FRAC_PI_2;
-            let n = angles
-                .iter()
-                .filter(|&&x| x >= lo && x < lo + std::f32::consts::FRAC_PI_2)
-                .count();
-            assert!((900..1100).contains(&n), "{quarter}: {n}");
+        // Over shapes, and over the strands of one shape.
+        let shapes: Vec<f32> = (0..4000).map(|i| strand_angle(100 * i, 0)).collect();
+        let strands: Vec<f32> = (0..4000).map(|i| strand_angle(1234, i)).collect();
+        for angles in [shapes, strands] {
+            for quarter in 0..4 {
+                let lo = quarter as f32 * std::f32::consts::FRAC_PI_2;
+                let n = angles
+                    .iter()
+                    .filter(|&&x| x >= lo && x < lo + std::f32::consts::FRAC_PI_2)
+                    .count();
+                assert!((900..1100).contains(&n), "{quarter}: {n}");
+            }
         }
     }
 }

@@ -14,8 +14,21 @@
 //!
 //! Widths are object-space lengths, scaled by the transform as `curve`'s;
 //! each Bézier segment takes the widths of its two file points. The file's
-//! transparency and colour arrays are read and checked but not used (the
-//! material decides the strands' colour).
+//! transparency and colour arrays are read and checked but not used: the
+//! material decides the strands' colour (rpbrt's hair material takes one
+//! colour per shape; to colour strands from the file, convert it with
+//! `cyhair2pbrt` and give each strand's `Shape` its own material).
+//!
+//! **Strands.** The geometry is [`for_each_strand`]'s, which
+//! `rpbrt cyhair2pbrt` writes as pbrt-v4 curves too: each strand's Bézier
+//! control points in object space, rounded to f32 once, and its widths,
+//! taken as the `curve` shape takes a curve's (one curve per strand when
+//! linear along it, else one per segment), so the converted file builds
+//! the same segments bit for bit. Each strand starts a strand of its own
+//! (`CurveSegment::strand_start`): a material that orients an elliptical
+//! fibre (`ShapeStorage::set_fibre_frames`) gives it its own transported
+//! frame, and with `ellipse_random` its own angle (`strand_angle` of the
+//! directive's offset and the strand's index in the file).
 //!
 //! **The format** (little-endian): a 128-byte header: `"HAIR"`, u32 hair
 //! (strand) count, u32 point count, u32 flags (bit 0: segments array, 1:
@@ -32,17 +45,12 @@
 //! truncated array, counts that disagree, a non-finite value) names the
 //! file, the byte offset and what was expected, at the `filename`
 //! parameter's `file:line:col`.
-//!
-//! **Limitation.** A material that orients an elliptical fibre
-//! (`ShapeStorage::set_fibre_frames`) carries one reference frame across
-//! all the segments of one shape: the strands of one `cyhair` shape share
-//! it as if they were one strand (per-strand frames are not done yet).
 
 use super::curve::{self, CurvePiece, CurveSegment, CurveType};
 use crate::error::{scene_error, unreadable_file, Error, Result, SceneError};
 use crate::math::Transform;
 use crate::scene::description;
-use glam::{DVec3, Vec3};
+use glam::DVec3;
 use pbrt_parser::{Location, ParamType};
 use std::io::{BufReader, Read};
 use std::path::Path;
@@ -268,6 +276,83 @@ pub fn read_hair(path: &Path, loc: &Location) -> Result<HairFile> {
     })
 }
 
+/// The bytes of a HAIR file holding `hair` (what [`read_hair`] reads back
+/// as `hair`): its optional arrays where present, and a segments array
+/// unless `segments_array` is false, when every strand must have the same
+/// number of segments (the header's default). For tests and tools that
+/// make hair; `Err` says why `hair` cannot be written (a strand of more
+/// than 65,535 segments, counts that disagree).
+pub fn hair_bytes(hair: &HairFile, segments_array: bool) -> std::result::Result<Vec<u8>, String> {
+    let too_many = || "a HAIR file holds at most 2³² − 1 strands and points".to_string();
+    let hair_count = u32::try_from(hair.segments.len()).map_err(|_| too_many())?;
+    let point_count = u32::try_from(hair.points.len()).map_err(|_| too_many())?;
+    let needed: u64 = hair.segments.iter().map(|&s| s as u64 + 1).sum();
+    if needed != point_count as u64 {
+        return Err(format!(
+            "the strands' segments need {needed} points, there are {point_count}"
+        ));
+    }
+    let per_point = |name: &str, len: Option<usize>| match len {
+        Some(len) if len != hair.points.len() => Err(format!(
+            "the {name} array has {len} values for {point_count} points"
+        )),
+        _ => Ok(()),
+    };
+    per_point("thickness", hair.thickness.as_ref().map(Vec::len))?;
+    per_point("transparency", hair.transparency.as_ref().map(Vec::len))?;
+    per_point("colour", hair.colour.as_ref().map(Vec::len))?;
+    let default_segments = if segments_array {
+        0
+    } else {
+        let first = hair.segments.first().copied().unwrap_or(0);
+        if hair.segments.iter().any(|&s| s != first) {
+            return Err("strands of different segment counts need a segments array".into());
+        }
+        first
+    };
+    if segments_array && hair.segments.iter().any(|&s| s > u16::MAX as u32) {
+        return Err("a strand of the segments array has at most 65,535 segments".into());
+    }
+    let flags = [
+        (segments_array, HAS_SEGMENTS),
+        (true, HAS_POINTS),
+        (hair.thickness.is_some(), HAS_THICKNESS),
+        (hair.transparency.is_some(), HAS_TRANSPARENCY),
+        (hair.colour.is_some(), HAS_COLOUR),
+    ]
+    .iter()
+    .filter(|(on, _)| *on)
+    .fold(0, |flags, (_, flag)| flags | flag);
+    let mut b = Vec::with_capacity(total_length(hair_count, point_count, flags) as usize);
+    b.extend_from_slice(b"HAIR");
+    for v in [hair_count, point_count, flags, default_segments] {
+        b.extend_from_slice(&v.to_le_bytes());
+    }
+    let floats =
+        |b: &mut Vec<u8>, v: &[f32]| v.iter().for_each(|v| b.extend_from_slice(&v.to_le_bytes()));
+    floats(&mut b, &[hair.default_thickness, hair.default_transparency]);
+    floats(&mut b, &hair.default_colour);
+    // The 88 bytes of file information: text, zero-padded.
+    b.extend_from_slice(b"written by rpbrt");
+    b.resize(HEADER_BYTES as usize, 0);
+    if segments_array {
+        for &s in &hair.segments {
+            b.extend_from_slice(&(s as u16).to_le_bytes());
+        }
+    }
+    floats(&mut b, hair.points.as_flattened());
+    if let Some(t) = &hair.thickness {
+        floats(&mut b, t);
+    }
+    if let Some(t) = &hair.transparency {
+        floats(&mut b, t);
+    }
+    if let Some(c) = &hair.colour {
+        floats(&mut b, c.as_flattened());
+    }
+    Ok(b)
+}
+
 /// The file length a header announces.
 fn total_length(hair_count: u32, point_count: u32, flags: u32) -> u64 {
     HEADER_BYTES
@@ -362,9 +447,180 @@ impl<R: Read> Reader<'_, R> {
 
 /// How a strand's points become Bézier segments.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-enum Basis {
+pub enum Basis {
+    /// Each file segment as a straight cubic Bézier between its points.
     Polyline,
+    /// A Catmull-Rom spline through the points (end tangents from mirrored
+    /// end points), as one cubic Bézier per file segment.
     CatmullRom,
+}
+
+impl Basis {
+    /// The basis by its parameter name (`polyline`, `catmullrom`).
+    pub fn from_name(name: &str) -> Option<Basis> {
+        match name {
+            "polyline" => Some(Basis::Polyline),
+            "catmullrom" => Some(Basis::CatmullRom),
+            _ => None,
+        }
+    }
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Basis::Polyline => "polyline",
+            Basis::CatmullRom => "catmullrom",
+        }
+    }
+}
+
+/// How a HAIR file's points and thicknesses become curves: the `cyhair`
+/// shape's `basis`, `scale` and `width`, and `cyhair2pbrt`'s options of
+/// the same names (both convert through [`for_each_strand`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Conversion {
+    pub basis: Basis,
+    /// Multiplies the points (and the thicknesses, unless `width`).
+    pub scale: f64,
+    /// Every strand's width (object space), instead of thickness × scale.
+    pub width: Option<f64>,
+}
+
+impl Conversion {
+    /// Why the scale or the width cannot be used, if so (the caller says
+    /// where).
+    pub fn check(&self) -> std::result::Result<(), String> {
+        if !self.scale.is_finite() || self.scale <= 0.0 {
+            return Err(format!("cyhair \"scale\" must be > 0, not {}", self.scale));
+        }
+        if let Some(w) = self.width {
+            if !w.is_finite() || w < 0.0 {
+                return Err(format!("cyhair \"width\" must be ≥ 0, not {w}"));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// One strand as cubic Bézier segments in object space, what both the
+/// `cyhair` shape and `cyhair2pbrt` draw. Single precision, as a pbrt file
+/// stores it: the shape transforms exactly these values, so a converted
+/// file that carries them exactly renders the same geometry bit for bit.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct StrandCurves {
+    /// The 3n + 1 control points of the strand's n segments (consecutive
+    /// segments share an end point, as in a pbrt-v4 Bézier curve).
+    pub cp: Vec<[f32; 3]>,
+    /// The width at each of the strand's n + 1 file points.
+    pub widths: Vec<f32>,
+}
+
+impl StrandCurves {
+    pub fn segment_count(&self) -> usize {
+        self.widths.len().saturating_sub(1)
+    }
+
+    /// Segment `s`'s four control points.
+    pub fn segment(&self, s: usize) -> [[f32; 3]; 4] {
+        [
+            self.cp[3 * s],
+            self.cp[3 * s + 1],
+            self.cp[3 * s + 2],
+            self.cp[3 * s + 3],
+        ]
+    }
+
+    /// `Some((width0, width1))` when one pbrt-v4 curve over all the
+    /// strand's segments gives every file point its width (a curve's
+    /// widths are linear in the segment index: always so for a constant
+    /// thickness); `None`: the strand needs a curve per segment, each with
+    /// the widths of its two points.
+    pub fn whole_curve_widths(&self) -> Option<(f32, f32)> {
+        let n = self.segment_count();
+        let (w0, w1) = (*self.widths.first()?, *self.widths.last()?);
+        (0..n)
+            .all(|s| curve::segment_widths(w0, w1, s, n) == [self.widths[s], self.widths[s + 1]])
+            .then_some((w0, w1))
+    }
+
+    /// Segment `s`'s widths as the strand's curve, or its own curve, gives
+    /// them (`whole`: [`Self::whole_curve_widths`]), computed as the
+    /// `curve` shape computes them.
+    pub fn segment_widths(&self, s: usize, whole: Option<(f32, f32)>) -> [f32; 2] {
+        match whole {
+            Some((w0, w1)) => curve::segment_widths(w0, w1, s, self.segment_count()),
+            None => curve::segment_widths(self.widths[s], self.widths[s + 1], 0, 1),
+        }
+    }
+}
+
+/// Calls `each(k, curves)` for each strand k of `hair` (numbered in file
+/// order) that has a segment; a strand of one point draws nothing. An
+/// error at `loc` if the scale takes a point or a width past single
+/// precision.
+pub fn for_each_strand(
+    hair: &HairFile,
+    conversion: &Conversion,
+    loc: &Location,
+    mut each: impl FnMut(usize, &StrandCurves) -> Result<()>,
+) -> Result<()> {
+    let scale = conversion.scale;
+    let point = |i: usize| DVec3::from(hair.points[i].map(|x| x as f64)) * scale;
+    let width_at = |i: usize| {
+        (conversion
+            .width
+            .unwrap_or_else(|| hair.thickness_at(i) as f64 * scale)) as f32
+    };
+    let lerp = |t: f64, a: DVec3, b: DVec3| a + (b - a) * t;
+    let mut strand = StrandCurves::default();
+    let mut first = 0usize;
+    for (k, &strand_segments) in hair.segments.iter().enumerate() {
+        let n = strand_segments as usize;
+        let last = first + n;
+        strand.cp.clear();
+        strand.widths.clear();
+        // Catmull-Rom tangents (the points' central differences, halved),
+        // with mirrored points beyond the ends.
+        let at = |j: isize| -> DVec3 {
+            if j < 0 {
+                2.0 * point(first) - point(first + 1)
+            } else if j as usize > n {
+                2.0 * point(last) - point(last - 1)
+            } else {
+                point(first + j as usize)
+            }
+        };
+        for s in 0..n {
+            let (p0, p1) = (point(first + s), point(first + s + 1));
+            let bez = match conversion.basis {
+                Basis::Polyline => [p0, lerp(1.0 / 3.0, p0, p1), lerp(2.0 / 3.0, p0, p1), p1],
+                Basis::CatmullRom => {
+                    let j = s as isize;
+                    let t0 = (p1 - at(j - 1)) * 0.5;
+                    let t1 = (at(j + 2) - p0) * 0.5;
+                    [p0, p0 + t0 / 3.0, p1 - t1 / 3.0, p1]
+                }
+            };
+            // Consecutive segments share the end point.
+            let from = if s == 0 { 0 } else { 1 };
+            strand
+                .cp
+                .extend(bez[from..].iter().map(|q| q.as_vec3().to_array()));
+        }
+        if n > 0 {
+            strand.widths.extend((first..=last).map(width_at));
+            if !strand.cp.as_flattened().iter().all(|x| x.is_finite())
+                || !strand.widths.iter().all(|w| w.is_finite())
+            {
+                return scene_error(
+                    format!("cyhair: strand {k}: its points or widths × scale {scale} pass the largest single-precision number"),
+                    loc,
+                );
+            }
+            each(k, &strand)?;
+        }
+        first = last + 1;
+    }
+    Ok(())
 }
 
 /// The curve segments (in render space) and their BVH pieces of a
@@ -408,32 +664,24 @@ pub fn create_cyhair(
             loc,
         );
     }
-    let basis = match basis.as_str() {
-        "polyline" => Basis::Polyline,
-        "catmullrom" => Basis::CatmullRom,
-        other => {
-            return scene_error(
-                format!("cyhair basis \"{other}\" unknown (expected catmullrom or polyline)"),
-                loc,
-            )
-        }
+    let Some(basis) = Basis::from_name(&basis) else {
+        return scene_error(
+            format!("cyhair basis \"{basis}\" unknown (expected catmullrom or polyline)"),
+            loc,
+        );
     };
-    if !scale.is_finite() || scale <= 0.0 {
-        return scene_error(format!("cyhair \"scale\" must be > 0, not {scale}"), loc);
-    }
-    if let Some(w) = width {
-        if !w.is_finite() || w < 0.0 {
-            return scene_error(format!("cyhair \"width\" must be ≥ 0, not {w}"), loc);
-        }
-    }
+    let conversion = Conversion {
+        basis,
+        scale,
+        width,
+    };
+    conversion.check().or_else(|e| scene_error(e, loc))?;
     let path = pbrt_parser::resolve_path(base_directory, &filename);
     let hair = read_hair(&path, &filename_at)?;
     append_segments(
         &hair,
-        scale,
-        width,
+        &conversion,
         kind,
-        basis,
         split_depth,
         render_from_object,
         reverse_orientation,
@@ -443,14 +691,14 @@ pub fn create_cyhair(
     )
 }
 
-/// The strands of `hair` as curve segments.
+/// The strands of `hair` as curve segments in render space: each
+/// [`StrandCurves`] segment transformed and its widths scaled exactly as
+/// the `curve` shape does it for the curves `cyhair2pbrt` writes.
 #[allow(clippy::too_many_arguments)]
 fn append_segments(
     hair: &HairFile,
-    scale: f64,
-    width: Option<f64>,
+    conversion: &Conversion,
     kind: CurveType,
-    basis: Basis,
     split_depth: u32,
     m: &Transform,
     reverse_orientation: bool,
@@ -460,49 +708,19 @@ fn append_segments(
 ) -> Result<()> {
     let width_scale = curve::width_scale(m);
     let flip_normal = reverse_orientation ^ m.swaps_handedness();
-    let point = |i: usize| {
-        let [x, y, z] = hair.points[i];
-        DVec3::new(x as f64, y as f64, z as f64) * scale
-    };
-    let width_at = |i: usize| {
-        let w = width.unwrap_or_else(|| hair.thickness_at(i) as f64 * scale);
-        (w * width_scale as f64) as f32
-    };
-    let lerp = |t: f64, a: DVec3, b: DVec3| a + (b - a) * t;
-    let mut first = 0usize;
-    for &strand_segments in &hair.segments {
-        let n = strand_segments as usize;
-        let last = first + n;
-        // Catmull-Rom tangents (the points' central differences, halved),
-        // with mirrored points beyond the ends.
-        let at = |k: isize| -> DVec3 {
-            if k < 0 {
-                2.0 * point(first) - point(first + 1)
-            } else if k as usize > n {
-                2.0 * point(last) - point(last - 1)
-            } else {
-                point(first + k as usize)
-            }
-        };
-        for s in 0..n {
-            let (p0, p1) = (point(first + s), point(first + s + 1));
-            let bez = match basis {
-                Basis::Polyline => [p0, lerp(1.0 / 3.0, p0, p1), lerp(2.0 / 3.0, p0, p1), p1],
-                Basis::CatmullRom => {
-                    let k = s as isize;
-                    let t0 = (p1 - at(k - 1)) * 0.5;
-                    let t1 = (at(k + 2) - p0) * 0.5;
-                    [p0, p0 + t0 / 3.0, p1 - t1 / 3.0, p1]
-                }
-            };
-            let cp: [Vec3; 4] = bez.map(|q| m.point(q).as_vec3());
-            let w = [width_at(first + s), width_at(first + s + 1)];
-            let segment = CurveSegment::unoriented(cp, w, kind, flip_normal);
+    for_each_strand(hair, conversion, loc, |_, strand| {
+        let whole = strand.whole_curve_widths();
+        for s in 0..strand.segment_count() {
+            let cp = strand
+                .segment(s)
+                .map(|q| m.point(DVec3::from(q.map(|x| x as f64))).as_vec3());
+            let w = strand.segment_widths(s, whole).map(|w| w * width_scale);
+            // Each strand is its own fibre frame's strand.
+            let segment = CurveSegment::unoriented(cp, w, kind, flip_normal, s == 0);
             curve::push_segment(segment, split_depth, segments, pieces, loc)?;
         }
-        first = last + 1;
-    }
-    Ok(())
+        Ok(())
+    })
 }
 
 #[cfg(test)]
@@ -510,6 +728,7 @@ mod tests {
     use super::*;
     use crate::scene::build::{build, RenderOverrides};
     use crate::scene::load_text;
+    use glam::Vec3;
     use std::path::PathBuf;
 
     fn temporary_directory(test: &str) -> PathBuf {
@@ -666,12 +885,15 @@ mod tests {
         assert_eq!(read.colour, None);
         // Curves from it: 4 segments, the default thickness × scale wide.
         let (mut segments, mut pieces) = (Vec::new(), Vec::new());
+        let conversion = Conversion {
+            basis: Basis::CatmullRom,
+            scale: 2.0,
+            width: None,
+        };
         append_segments(
             &read,
-            2.0,
-            None,
+            &conversion,
             CurveType::Cylinder,
-            Basis::CatmullRom,
             1,
             &Transform::IDENTITY,
             false,
@@ -925,12 +1147,15 @@ mod tests {
             };
             if let Ok(hair) = read_bytes(&dir, "random.hair", &bytes[..cut]) {
                 let (mut segments, mut pieces) = (Vec::new(), Vec::new());
+                let conversion = Conversion {
+                    basis: Basis::CatmullRom,
+                    scale: 1.0,
+                    width: None,
+                };
                 let _ = append_segments(
                     &hair,
-                    1.0,
-                    None,
+                    &conversion,
                     CurveType::Flat,
-                    Basis::CatmullRom,
                     0,
                     &Transform::IDENTITY,
                     false,
@@ -941,5 +1166,81 @@ mod tests {
             }
         }
         let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// `hair_bytes` writes what `read_hair` reads back, with and without
+    /// the segments array and every optional array; it refuses what a
+    /// HAIR file cannot hold.
+    #[test]
+    fn written_hair_reads_back() {
+        let dir = temporary_directory("write");
+        let strands = three_strands();
+        let n = 9;
+        let mut hair = HairFile {
+            segments: vec![1, 3, 2],
+            points: strands.concat(),
+            thickness: Some((0..n).map(|i| 0.1 * i as f32).collect()),
+            default_thickness: 0.5,
+            transparency: Some(vec![0.25; n]),
+            default_transparency: 0.75,
+            colour: Some((0..n).map(|i| [i as f32, 0.5, 0.25]).collect()),
+            default_colour: [0.1, 0.2, 0.3],
+        };
+        let bytes = hair_bytes(&hair, true).unwrap();
+        assert_eq!(read_bytes(&dir, "w.hair", &bytes).unwrap(), hair);
+        assert!(hair_bytes(&hair, false).unwrap_err().contains("different"));
+        hair.thickness = None;
+        hair.transparency = None;
+        hair.colour = None;
+        hair.segments = vec![2, 2, 2];
+        let bytes = hair_bytes(&hair, false).unwrap();
+        assert_eq!(bytes.len(), 128 + 9 * 12);
+        assert_eq!(read_bytes(&dir, "w2.hair", &bytes).unwrap(), hair);
+        hair.segments = vec![2, 2];
+        assert!(hair_bytes(&hair, true)
+            .unwrap_err()
+            .contains("need 6 points"));
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// A strand's widths go in one curve when pbrt-v4's lerp over its
+    /// segments gives every point's width, else a curve per segment; a
+    /// scale past f32 is an error, not an infinite point.
+    #[test]
+    fn strand_widths_choose_the_curves() {
+        let strand = |widths: Vec<f32>| StrandCurves {
+            cp: vec![[0.0; 3]; 3 * (widths.len() - 1) + 1],
+            widths,
+        };
+        assert_eq!(strand(vec![0.5; 4]).whole_curve_widths(), Some((0.5, 0.5)));
+        assert_eq!(
+            strand(vec![0.0, 1.0, 2.0, 3.0]).whole_curve_widths(),
+            Some((0.0, 3.0))
+        );
+        let bumpy = strand(vec![0.1, 0.3, 0.2]);
+        assert_eq!(bumpy.whole_curve_widths(), None);
+        assert_eq!(bumpy.segment_widths(1, None), [0.3, 0.2]);
+        let hair = HairFile {
+            segments: vec![1],
+            points: vec![[0.0; 3], [1e30, 0.0, 0.0]],
+            thickness: None,
+            default_thickness: 1.0,
+            transparency: None,
+            default_transparency: 1.0,
+            colour: None,
+            default_colour: [1.0; 3],
+        };
+        let conversion = Conversion {
+            basis: Basis::Polyline,
+            scale: 1e10,
+            width: None,
+        };
+        let e = for_each_strand(&hair, &conversion, &here(), |_, _| Ok(()))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("strand 0") && e.contains("single-precision"),
+            "{e}"
+        );
     }
 }

@@ -155,10 +155,17 @@ impl ShapeStorage {
         }
     }
 
-    /// Gives the strand made of the curve pieces `shapes` (one `Shape
-    /// "curve"`: consecutive segments) its view-independent frame, for a
-    /// material that orients the fibre by it (`curve_frame`).
-    pub fn set_fibre_frames(&mut self, shapes: &[Shape], frame: curve_frame::FibreFrame) {
+    /// Gives each strand of the curve pieces `shapes` (one shape's
+    /// consecutive segments: a `Shape "curve"` is one strand, a `cyhair`
+    /// shape one per strand of its file, each begun by a segment with
+    /// `strand_start`) its own view-independent frame, `frame_of(k)` for
+    /// the shape's k-th strand, for a material that orients the fibre by
+    /// it (`curve_frame`).
+    pub fn set_fibre_frames(
+        &mut self,
+        shapes: &[Shape],
+        frame_of: impl Fn(usize) -> curve_frame::FibreFrame,
+    ) {
         let mut segments = shapes.iter().filter_map(|shape| match shape {
             Shape::Curve(c) => Some(self.curve_pieces[*c as usize].segment() as usize),
             _ => None,
@@ -167,9 +174,18 @@ impl ShapeStorage {
             return;
         };
         let last = segments.next_back().unwrap_or(first);
-        let strand = &mut self.curve_segments[first..=last];
-        curve_frame::set_frame(strand, frame);
-        for segment in strand {
+        let shape_segments = &mut self.curve_segments[first..=last];
+        // The first segment starts a strand whatever its flag says.
+        let mut start = 0;
+        let mut strand = 0;
+        for end in 1..=shape_segments.len() {
+            if end == shape_segments.len() || shape_segments[end].strand_start {
+                curve_frame::set_frame(&mut shape_segments[start..end], frame_of(strand));
+                strand += 1;
+                start = end;
+            }
+        }
+        for segment in shape_segments {
             segment.fibre_frame = true;
         }
     }
