@@ -209,10 +209,10 @@ fn write_curves(
     let mut line = String::with_capacity(1 << 12);
     cyhair::for_each_strand(hair, conversion, &Location::nowhere(), |k, strand| {
         line.clear();
-        let count = shape_lines(&mut line, &head, strand);
+        let (count, whole) = shape_lines(&mut line, &head, strand);
         written.strands += 1;
         written.shapes += count;
-        written.whole_strands += (count == 1) as usize;
+        written.whole_strands += whole as usize;
         out.write_all(line.as_bytes()).map_err(io)?;
         if k % 1024 == 0 {
             bar.set_position(k as u64);
@@ -223,8 +223,9 @@ fn write_curves(
     Ok(written)
 }
 
-/// A strand's `Shape` lines into `line`; how many.
-fn shape_lines(line: &mut String, head: &str, strand: &StrandCurves) -> usize {
+/// A strand's `Shape` lines into `line`: how many, and whether the
+/// strand is one curve.
+fn shape_lines(line: &mut String, head: &str, strand: &StrandCurves) -> (usize, bool) {
     use std::fmt::Write as _;
     let curve = |line: &mut String, cp: &[[f32; 3]], w0: f32, w1: f32| {
         line.push_str(head);
@@ -246,7 +247,7 @@ fn shape_lines(line: &mut String, head: &str, strand: &StrandCurves) -> usize {
     match strand.whole_curve_widths() {
         Some((w0, w1)) => {
             curve(line, &strand.cp, w0, w1);
-            1
+            (1, true)
         }
         None => {
             let n = strand.segment_count();
@@ -258,7 +259,7 @@ fn shape_lines(line: &mut String, head: &str, strand: &StrandCurves) -> usize {
                     strand.widths[s + 1],
                 );
             }
-            n
+            (n, false)
         }
     }
 }
