@@ -95,9 +95,9 @@ impl RgbFilm {
         if bounds.1.x <= bounds.0.x || bounds.1.y <= bounds.0.y {
             return scene_error("the film's pixel bounds are empty", loc);
         }
-        let filename = outfile.unwrap_or_else(|| {
-            base_directory.join(p.string("filename", "pbrt.exr").unwrap_or_default())
-        });
+        // Read even under --outfile, so that it counts as used.
+        let scene_filename = p.string("filename", "pbrt.exr")?;
+        let filename = outfile.unwrap_or_else(|| base_directory.join(scene_filename));
         let save_fp16 = p.bool("savefp16", true)?;
         let iso = p.float("iso", 100.0)? as f32;
         let white_balance = p.float("whitebalance", 0.0)?;

@@ -271,6 +271,16 @@ impl ParamSet {
         }
     }
 
+    /// Clears every "looked up" flag: the schema's check of names and
+    /// types looks each parameter up, and the create function's lookups
+    /// are the ones [`ParamSet::report_unused`] must judge.
+    pub fn forget_used(&self) {
+        self.used.store(0, Ordering::Relaxed);
+        for flag in &self.used_beyond {
+            flag.store(false, Ordering::Relaxed);
+        }
+    }
+
     /// The first parameter nothing looked up, as an error (pbrt-v4 treats
     /// unused parameters as errors: they are usually misspellings).
     /// `what` names the entity (made only for the error).
@@ -332,6 +342,22 @@ mod tests {
         let p = params("Shape \"sphere\" \"integer radius\" 2");
         let e = p.float("radius", 1.0).unwrap_err().to_string();
         assert!(e.contains("wrong type") && e.contains("<t>:1:16"), "{e}");
+    }
+
+    /// The schema's check looks every parameter up; what counts is what
+    /// the create function reads afterwards: a parameter the schema lists
+    /// but the create function does not read is reported.
+    #[test]
+    fn a_listed_parameter_the_creator_does_not_read_is_reported() {
+        let p = params("Shape \"sphere\" \"float radius\" 2\n  \"float zmax\" 0.5");
+        let here = p.iter().next().unwrap().location.clone();
+        crate::scene::schema::check(crate::scene::schema::Category::Shape, "sphere", &p, &here)
+            .unwrap();
+        p.float("radius", 1.0).unwrap();
+        let e = p.report_unused(|| "shape \"sphere\"".into()).unwrap_err().to_string();
+        assert!(e.contains("\"float zmax\": unused parameter") && e.contains("<t>:2:3"), "{e}");
+        p.float("zmax", 1.0).unwrap();
+        p.report_unused(|| "shape \"sphere\"".into()).unwrap();
     }
 
     #[test]

@@ -177,6 +177,11 @@ fn place<'s>(
         Some(a) => Some(&context.scene.area_lights[a]),
         None => None,
     };
+    // Every reader of the shape's parameters has run (alpha, the shape).
+    shape
+        .entity
+        .params
+        .report_unused(|| format!("shape \"{}\"", shape.entity.kind))?;
     Ok(placed)
 }
 

@@ -413,8 +413,11 @@ pub fn is_known(category: Category, kind: &str) -> bool {
 }
 
 /// Checks `params` against the type's parameters: an unknown type, a
-/// parameter of the wrong type, or one the type does not read is an error
-/// (pbrt-v4's "unused parameter", at the parameter's location).
+/// parameter of the wrong type, or one the type does not have is an error
+/// (pbrt-v4's "unused parameter", at the parameter's location), found as
+/// the directive is read. The lookups are then forgotten: whether the
+/// create function reads each parameter is checked when it runs (its
+/// `report_unused`), so a parameter listed here but not read is reported.
 pub fn check(category: Category, kind: &str, params: &ParamSet, location: &Location) -> Result<()> {
     let Some(groups) = slots(category, kind) else {
         return scene_error(
@@ -430,7 +433,9 @@ pub fn check(category: Category, kind: &str, params: &ParamSet, location: &Locat
             params.find(name, types)?;
         }
     }
-    params.report_unused(|| format!("{} \"{kind}\"", category.name()))
+    params.report_unused(|| format!("{} \"{kind}\"", category.name()))?;
+    params.forget_used();
+    Ok(())
 }
 
 /// The 2D mapping parameters a texture reads: none for textures without a

@@ -571,7 +571,6 @@ pub fn create_curves(
     let width1 = p.float("width1", width)? as f32;
     let split_depth = p.int("splitdepth", 3)?.clamp(0, 10) as u32;
     let normals = p.normals("N")?;
-    p.report_unused(|| format!("shape \"{}\"", shape.entity.kind))?;
     if degree != 2 && degree != 3 {
         return scene_error(
             format!("curve \"degree\" must be 2 or 3, not {degree}"),

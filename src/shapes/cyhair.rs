@@ -647,7 +647,6 @@ pub fn create_cyhair(
     let kind_name = p.string("type", "flat")?;
     let basis = p.string("basis", "catmullrom")?;
     let split_depth = p.int("splitdepth", 3)?.clamp(0, 10) as u32;
-    p.report_unused(|| format!("shape \"{}\"", shape.entity.kind))?;
     if filename.is_empty() {
         return scene_error("cyhair: \"filename\" must be given", loc);
     }

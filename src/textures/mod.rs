@@ -300,6 +300,9 @@ pub fn create_texture(
             &mut textures.images,
             loc,
         )?);
+        entity
+            .params
+            .report_unused(|| format!("texture \"{}\"", entity.kind))?;
         return Ok(Some(match value {
             TextureValue::Float => (Some(FloatTexture::Image(image)), None),
             TextureValue::Spectrum => (None, Some(SpectrumTexture::Image(image, kind))),
@@ -355,6 +358,9 @@ pub fn create_texture(
             return scene_error(format!("texture \"{other}\" is not supported yet (supported: constant, scale, checkerboard, imagemap)"), loc)
         }
     };
+    entity
+        .params
+        .report_unused(|| format!("texture \"{}\"", entity.kind))?;
     Ok(Some(result))
 }
 
