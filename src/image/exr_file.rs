@@ -12,7 +12,7 @@ use exr::prelude::{
     read, AnyChannel, AnyChannels, Encoding, FlatSamples, ImageAttributes, IntegerBounds, Layer,
     LayerAttributes, ReadChannels, ReadLayers, Text, Vec2, WritableImage,
 };
-use std::io::{BufReader, Seek, Write};
+use std::io::{BufReader, Read, Seek, Write};
 use std::path::Path;
 
 pub(crate) fn read_exr(path: &Path) -> Result<Image, ImageError> {
@@ -26,6 +26,14 @@ pub(crate) fn read_exr_with_window(path: &Path) -> Result<(Image, DataWindow), I
         path: path.into(),
         source,
     })?;
+    read_exr_from(BufReader::new(file), path)
+}
+
+/// Reads OpenEXR data from `source` (`path` names it in errors).
+pub(crate) fn read_exr_from(
+    source: impl Read + Seek,
+    path: &Path,
+) -> Result<(Image, DataWindow), ImageError> {
     let malformed = |message: String| ImageError::Malformed {
         path: path.into(),
         message,
@@ -36,7 +44,7 @@ pub(crate) fn read_exr_with_window(path: &Path) -> Result<(Image, DataWindow), I
         .all_channels()
         .first_valid_layer()
         .all_attributes()
-        .from_buffered(BufReader::new(file))
+        .from_buffered(source)
         .map_err(|error| malformed(format!("cannot read OpenEXR data: {error}")))?;
     let display = exr_image.attributes.display_window;
     let layer = exr_image.layer_data;

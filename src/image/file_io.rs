@@ -38,6 +38,31 @@ impl Image {
         }
     }
 
+    /// Reads an image file's bytes held in memory, exactly as
+    /// [`Image::read`] reads the file `path` (whose extension chooses the
+    /// format and which names the data in errors). For fuzzing and tests.
+    pub fn read_from_bytes(bytes: &[u8], path: impl AsRef<Path>) -> Result<Image, ImageError> {
+        let path = path.as_ref();
+        let cursor = || std::io::Cursor::new(bytes);
+        match extension(path).as_deref() {
+            Some("exr") => exr_file::read_exr_from(cursor(), path).map(|(image, _)| image),
+            Some("pfm") => pfm_file::read_pfm_bytes(bytes, path),
+            Some("png") => {
+                png_tga_jpeg_file::read_with_image_crate_from(cursor(), path, ImageFormat::Png)
+            }
+            Some("tga") => {
+                png_tga_jpeg_file::read_with_image_crate_from(cursor(), path, ImageFormat::Tga)
+            }
+            Some("jpg" | "jpeg") => {
+                png_tga_jpeg_file::read_with_image_crate_from(cursor(), path, ImageFormat::Jpeg)
+            }
+            _ => Err(ImageError::UnsupportedExtension {
+                path: path.into(),
+                supported: READABLE_EXTENSIONS,
+            }),
+        }
+    }
+
     /// Writes the image, choosing the format by extension: `.exr` (half
     /// floats), `.pfm` (32-bit floats) or `.png` (8-bit sRGB). See
     /// [`Image::write_exr`] for the rules all writers follow.

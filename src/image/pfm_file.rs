@@ -16,7 +16,12 @@ pub(crate) fn read_pfm(path: &Path) -> Result<Image, ImageError> {
         path: path.into(),
         source,
     })?;
-    parse_pfm(&bytes).map_err(|message| ImageError::Malformed {
+    read_pfm_bytes(&bytes, path)
+}
+
+/// Reads PFM bytes held in memory (`path` names them in errors).
+pub(crate) fn read_pfm_bytes(bytes: &[u8], path: &Path) -> Result<Image, ImageError> {
+    parse_pfm(bytes).map_err(|message| ImageError::Malformed {
         path: path.into(),
         message,
     })

@@ -10,7 +10,7 @@
 
 use super::{color_encoding::linear_to_srgb8, ColorEncoding, Image, ImageError, PixelFormat};
 use ::image::{DynamicImage, ImageEncoder, ImageFormat, ImageReader};
-use std::io::{BufReader, Write};
+use std::io::{BufRead, BufReader, Seek, Write};
 use std::path::Path;
 
 /// Reads a PNG, TGA or JPEG file (`format` says which).
@@ -19,11 +19,20 @@ pub(crate) fn read_with_image_crate(path: &Path, format: ImageFormat) -> Result<
         path: path.into(),
         source,
     })?;
+    read_with_image_crate_from(BufReader::new(file), path, format)
+}
+
+/// Decodes PNG, TGA or JPEG data from `source` (`path` names it in errors).
+pub(crate) fn read_with_image_crate_from(
+    source: impl BufRead + Seek,
+    path: &Path,
+    format: ImageFormat,
+) -> Result<Image, ImageError> {
     let malformed = |message: String| ImageError::Malformed {
         path: path.into(),
         message,
     };
-    let decoded = ImageReader::with_format(BufReader::new(file), format)
+    let decoded = ImageReader::with_format(source, format)
         .decode()
         .map_err(|error| malformed(format!("cannot decode {format:?} data: {error}")))?;
     let (width, height) = (decoded.width(), decoded.height());

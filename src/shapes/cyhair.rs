@@ -119,8 +119,19 @@ pub fn read_hair(path: &Path, loc: &Location) -> Result<HairFile> {
     let unreadable = |source: &dyn std::fmt::Display| unreadable_file("cyhair", path, source, loc);
     let file = std::fs::File::open(path).map_err(|e| unreadable(&e))?;
     let length = file.metadata().map_err(|e| unreadable(&e))?.len();
+    read_hair_from(BufReader::with_capacity(1 << 16, file), length, path, loc)
+}
+
+/// Reads the bytes of a HAIR file held in memory, exactly as [`read_hair`]
+/// reads a file (`path` only names it in errors). For fuzzing and tests.
+pub fn read_hair_bytes(bytes: &[u8], path: &Path, loc: &Location) -> Result<HairFile> {
+    read_hair_from(bytes, bytes.len() as u64, path, loc)
+}
+
+/// Reads a HAIR file of `length` bytes from `source`.
+fn read_hair_from(source: impl Read, length: u64, path: &Path, loc: &Location) -> Result<HairFile> {
     let mut reader = Reader {
-        inner: BufReader::with_capacity(1 << 16, file),
+        inner: source,
         offset: 0,
         path,
         loc,

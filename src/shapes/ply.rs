@@ -120,6 +120,25 @@ pub fn read_ply(path: &Path, location: &Location) -> Result<PlyMesh> {
     }
 }
 
+/// Reads the bytes of a `.ply` file (or, if `path` ends in `.gz`, of a
+/// gzip-compressed one) held in memory, exactly as [`read_ply`] reads a
+/// file; `path` only names it in errors and picks the compression. For
+/// fuzzing and tests.
+pub fn read_ply_bytes(bytes: &[u8], path: &Path, location: &Location) -> Result<PlyMesh> {
+    let gzipped = path
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("gz"));
+    if gzipped {
+        read_ply_from(
+            BufReader::new(flate2::read::MultiGzDecoder::new(bytes)),
+            path,
+            location,
+        )
+    } else {
+        read_ply_from(bytes, path, location)
+    }
+}
+
 /// The texture coordinate property names, best first, as (u name, v name).
 const UV_NAMES: [(&str, &str); 4] = [
     ("u", "v"),
