@@ -235,6 +235,29 @@ impl Material {
         matches!(self, Material::Hair { .. })
     }
 
+    /// Whether the material can scatter perfectly specularly (a smooth
+    /// conductor, dielectric or coating: constant roughness whose α is
+    /// below pbrt-v4's "effectively smooth" 10⁻³; a thin dielectric).
+    pub fn can_be_specular(&self) -> bool {
+        let smooth = |r: &Roughness| {
+            [&r.u, &r.v].iter().all(|t| match t {
+                FloatTexture::Constant(x) => {
+                    let alpha = if r.remap { x.max(0.0).sqrt() } else { *x };
+                    alpha < 1e-3
+                }
+                _ => false,
+            })
+        };
+        match self {
+            Material::Conductor { roughness, .. }
+            | Material::Dielectric { roughness, .. }
+            | Material::CoatedDiffuse { roughness, .. } => smooth(roughness),
+            Material::ThinDielectric { .. } => true,
+            Material::ForceDiffuse(_) => false,
+            _ => false,
+        }
+    }
+
     /// Whether hits need a view-independent direction across the curve
     /// (`SurfaceInteraction::fiber_reference`): an elliptical fibre of the
     /// dual hair model is oriented by it.

@@ -450,6 +450,11 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
             warnings.push(warning);
         }
     }
+    warnings.extend(super::deviations::warnings(
+        scene,
+        &materials,
+        integrator.texture_filtering,
+    ));
 
     // Shapes, their primitives and area lights.
     let mut shapes = ShapeStorage::default();

@@ -5,6 +5,7 @@ pub mod alpha;
 pub mod build;
 pub mod builder;
 pub mod description;
+pub mod deviations;
 pub mod instancing;
 pub mod params;
 pub mod placed_shapes;
