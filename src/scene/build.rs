@@ -454,6 +454,7 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
         scene,
         &materials,
         integrator.texture_filtering,
+        base,
     ));
 
     // Shapes, their primitives and area lights.
