@@ -274,3 +274,31 @@ fn radiance_beyond_the_half_range_is_clamped_and_counted() {
     let image = rpbrt::image::Image::read(out).unwrap();
     assert!(image.data().iter().any(|&v| v > 65504.0 && v.is_finite()));
 }
+
+/// The README's first command (render a shipped hair scene) works as
+/// written, from the repository's root, with the output put elsewhere.
+#[test]
+fn the_readmes_first_command_renders() {
+    let root = env!("CARGO_MANIFEST_DIR");
+    let readme = std::fs::read_to_string(format!("{root}/README.md")).unwrap();
+    let command = readme
+        .lines()
+        .find_map(|l| l.trim().strip_prefix("cargo run --release -- "))
+        .expect("a `cargo run --release -- ...` line in the README");
+    let mut args: Vec<String> = command.split_whitespace().map(String::from).collect();
+    let out = std::env::temp_dir().join(format!("rpbrt-readme-{}.png", std::process::id()));
+    // The README writes next to the user; the test writes to a temporary file.
+    if let Some(i) = args.iter().position(|a| a == "--outfile") {
+        args[i + 1] = out.display().to_string();
+    }
+    let status = Command::new(env!("CARGO_BIN_EXE_rpbrt"))
+        .args(&args)
+        .arg("--quiet")
+        .current_dir(root)
+        .status()
+        .unwrap();
+    assert!(status.success(), "{command}");
+    let image = rpbrt::image::Image::read(&out).unwrap();
+    assert!(image.width() > 0);
+    let _ = std::fs::remove_file(&out);
+}
