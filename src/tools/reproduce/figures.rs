@@ -52,12 +52,29 @@ pub struct Figure {
     /// What the paper's caption and text say the figure shows.
     pub claim: &'static str,
     pub work: Work,
-    /// The region (x0, y0, x1, y1 as fractions of the image) whose mean
-    /// brightness and saturation are reported for each panel.
-    pub region: [f32; 4],
+    /// Named regions (x0, y0, x1, y1 as fractions of the image, y down)
+    /// whose mean luminance is reported for each panel (and the first's
+    /// mean saturation): where the paper's claim can be measured.
+    pub regions: &'static [Region],
 }
 
-const HEAD_REGION: [f32; 4] = [0.2, 0.1, 0.8, 0.95];
+/// A named part of a figure's images.
+pub struct Region {
+    pub name: &'static str,
+    pub bounds: [f32; 4],
+}
+
+const HAIR: Region = Region {
+    name: "hair",
+    bounds: [0.2, 0.1, 0.8, 0.95],
+};
+const HEAD_REGIONS: &[Region] = &[
+    HAIR,
+    Region {
+        name: "top of the hair",
+        bounds: [0.3, 0.1, 0.7, 0.3],
+    },
+];
 
 pub const FIGURES: &[Figure] = &[
     Figure {
@@ -74,7 +91,11 @@ pub const FIGURES: &[Figure] = &[
             difference_scale: 1.0,
             preview_spp: 64,
         },
-        region: HEAD_REGION,
+        regions: &[
+            Region { name: "hair above the light", bounds: [0.3, 0.05, 0.7, 0.35] },
+            Region { name: "the light's disc", bounds: [0.45, 0.4, 0.6, 0.55] },
+            Region { name: "hair below the light", bounds: [0.3, 0.6, 0.7, 0.95] },
+        ],
     },
     Figure {
         id: "fig04",
@@ -90,7 +111,7 @@ pub const FIGURES: &[Figure] = &[
             difference_scale: 0.2,
             preview_spp: 256,
         },
-        region: [0.25, 0.1, 0.75, 0.9],
+        regions: &[Region { name: "fibres", bounds: [0.25, 0.1, 0.75, 0.9] }],
     },
     Figure {
         id: "fig07",
@@ -100,7 +121,7 @@ pub const FIGURES: &[Figure] = &[
             bcsdf_args: &["--spectral-plot", "--ellipse-a", "37.5", "--ellipse-b", "25"],
             caption: "Red, green, blue channels (left to right) against φr, about ±4° around the forward direction: in colour, the spectral integral of C_diff; in black, the fitted logistic N_diff.",
         },
-        region: [0.0, 0.0, 1.0, 1.0],
+        regions: &[],
     },
     Figure {
         id: "fig09",
@@ -118,7 +139,7 @@ pub const FIGURES: &[Figure] = &[
             difference_scale: 1.0,
             preview_spp: 64,
         },
-        region: [0.3, 0.3, 0.7, 0.7],
+        regions: &[Region { name: "the ball", bounds: [0.3, 0.3, 0.7, 0.7] }],
     },
     Figure {
         id: "fig10",
@@ -128,23 +149,25 @@ pub const FIGURES: &[Figure] = &[
             bcsdf_args: &["--ellipse-a", "37.5", "--ellipse-b", "25", "--logistic-scale", "0.01", "--d-diff", "1"],
             caption: "Left to right: N_R, N_TT, N_TRT, N_diff, and the total with √N_diff as in the paper (blue low, yellow high, each scaled alone); φi across, φr up, 0 to 2π. The dual model only: the paper's top row (a ray-tracing simulation) is not reproduced here.",
         },
-        region: [0.0, 0.0, 1.0, 1.0],
+        regions: &[],
     },
     Figure {
         id: "fig11",
         title: "Fig. 11: circular against elliptical fibres, no diffraction (melanin 1)",
-        claim: "More light is scattered towards the camera when accounting for ellipticity.",
+        claim: "More light is scattered towards the camera when accounting for ellipticity. (The third and fourth panels, not in the paper, turn every fibre's major or minor axis towards the camera's side instead of each strand at random.)",
         work: Work::Render {
             panels: &[
                 Panel { scene: "fig11-reference.pbrt", label: "reference (pbrt-v4 hair), melanin 1", model: Model::Reference },
                 Panel { scene: "fig11-elliptical.pbrt", label: "dual: a 30, b 20 µm, d_diff 0", model: Model::Dual },
+                Panel { scene: "fig11-aligned.pbrt", label: "the same, major axes facing the camera", model: Model::Dual },
+                Panel { scene: "fig11-across.pbrt", label: "the same, minor axes facing the camera", model: Model::Dual },
             ],
             exposure: 1.0,
             difference: Some((0, 1)),
             difference_scale: 0.5,
             preview_spp: 64,
         },
-        region: HEAD_REGION,
+        regions: HEAD_REGIONS,
     },
     Figure {
         id: "fig12",
@@ -161,7 +184,11 @@ pub const FIGURES: &[Figure] = &[
             difference_scale: 1.0,
             preview_spp: 64,
         },
-        region: HEAD_REGION,
+        regions: &[
+            HAIR,
+            Region { name: "top edge (against the light)", bounds: [0.3, 0.1, 0.7, 0.25] },
+            Region { name: "bottom of the hair", bounds: [0.2, 0.75, 0.8, 0.95] },
+        ],
     },
     Figure {
         id: "fig13",
@@ -177,7 +204,11 @@ pub const FIGURES: &[Figure] = &[
             difference_scale: 0.5,
             preview_spp: 64,
         },
-        region: [0.25, 0.15, 0.75, 0.85],
+        regions: &[
+            Region { name: "bunny", bounds: [0.25, 0.15, 0.75, 0.85] },
+            Region { name: "shadowed side", bounds: [0.25, 0.55, 0.45, 0.8] },
+            Region { name: "cast shadow", bounds: [0.69, 0.75, 0.9, 0.87] },
+        ],
     },
     Figure {
         id: "fig14",
@@ -193,7 +224,7 @@ pub const FIGURES: &[Figure] = &[
             difference_scale: 0.5,
             preview_spp: 64,
         },
-        region: HEAD_REGION,
+        regions: HEAD_REGIONS,
     },
     Figure {
         id: "fig15",
@@ -209,7 +240,7 @@ pub const FIGURES: &[Figure] = &[
             difference_scale: 0.5,
             preview_spp: 64,
         },
-        region: HEAD_REGION,
+        regions: HEAD_REGIONS,
     },
     Figure {
         id: "fig16",
@@ -229,7 +260,7 @@ pub const FIGURES: &[Figure] = &[
             difference_scale: 1.0,
             preview_spp: 64,
         },
-        region: HEAD_REGION,
+        regions: HEAD_REGIONS,
     },
 ];
 
@@ -258,6 +289,8 @@ pub const SCENE_FILES: &[(&str, &str)] = &[
     scene!("fig09-d04.pbrt"),
     scene!("fig09-paper-d04.pbrt"),
     scene!("fig09-reference.pbrt"),
+    scene!("fig11-across.pbrt"),
+    scene!("fig11-aligned.pbrt"),
     scene!("fig11-elliptical.pbrt"),
     scene!("fig11-reference.pbrt"),
     scene!("fig12-d0.pbrt"),

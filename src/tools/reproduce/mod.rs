@@ -156,10 +156,11 @@ pub struct PanelResult {
     pub record: PanelRecord,
     /// Whether this run rendered it (else it was kept from an earlier run).
     pub rendered_now: bool,
-    /// Mean luminance (linear) over the figure's region.
-    pub region_luminance: f64,
-    /// Mean saturation (max − min) / max over the region's lit pixels.
-    pub region_saturation: f64,
+    /// Mean luminance (linear) over each of the figure's regions.
+    pub region_luminance: Vec<f64>,
+    /// Mean saturation (max − min) / max over the first region's lit
+    /// pixels.
+    pub saturation: f64,
 }
 
 /// A figure's outcome.
@@ -450,7 +451,13 @@ fn render_panel(args: &ReproduceArgs, job: &PanelJob, bar: &ProgressBar) -> Resu
         }
     };
     let (width, height, rgb) = crate::tools::imgtool::read_rgb(&exr)?;
-    let (region_luminance, region_saturation) = region_stats(width, height, &rgb, figure.region);
+    let stats: Vec<(f64, f64)> = figure
+        .regions
+        .iter()
+        .map(|r| region_stats(width, height, &rgb, r.bounds))
+        .collect();
+    let region_luminance = stats.iter().map(|s| s.0).collect();
+    let saturation = stats.first().map_or(0.0, |s| s.1);
     Ok(PanelResult {
         scene: panel.scene,
         label: panel.label,
@@ -458,7 +465,7 @@ fn render_panel(args: &ReproduceArgs, job: &PanelJob, bar: &ProgressBar) -> Resu
         record,
         rendered_now,
         region_luminance,
-        region_saturation,
+        saturation,
     })
 }
 
@@ -535,7 +542,8 @@ fn compose_figure(
                 p.label.to_string(),
                 format!(
                     "{:.1} s, mean {:.4}",
-                    p.record.render_seconds, p.region_luminance
+                    p.record.render_seconds,
+                    p.region_luminance.first().copied().unwrap_or(0.0)
                 ),
             ],
         })

@@ -1,6 +1,6 @@
 //! `index.md` and `index.html` of a `rpbrt reproduce` run: each figure's
-//! image, the paper's claim, a table of its panels (model, render time,
-//! the region's mean brightness and saturation), and Table 2 (render time,
+//! image, the paper's claim, a table of its panels (render time, mean
+//! luminance in each of the figure's regions, saturation), and Table 2 (render time,
 //! reference model against dual model, with the ratio). The two pages
 //! carry the same content; the HTML opens directly in a browser (images
 //! by relative path, no scripts).
@@ -116,20 +116,34 @@ pub fn markdown(results: &[FigureResult], context: &Context) -> String {
             r.figure.title, r.figure.claim, r.figure.id, r.image
         );
         if !r.panels.is_empty() {
+            let names: Vec<String> = r
+                .figure
+                .regions
+                .iter()
+                .map(|g| format!("mean luminance: {}", g.name))
+                .collect();
+            let first = r.figure.regions.first().map_or("", |g| g.name);
             let _ = writeln!(
                 s,
-                "| panel | scene | render time | mean luminance (region) | mean saturation (region) |\n|---|---|---|---|---|"
+                "| panel | scene | render time | {} | mean saturation: {first} |\n|---|---|---|{}---|",
+                names.join(" | "),
+                "---|".repeat(names.len())
             );
             for p in &r.panels {
+                let lum: Vec<String> = p
+                    .region_luminance
+                    .iter()
+                    .map(|v| format!("{v:.4}"))
+                    .collect();
                 let _ = writeln!(
                     s,
-                    "| {} | `{}` | {:.1} s{} | {:.4} | {:.3} |",
+                    "| {} | `{}` | {:.1} s{} | {} | {:.3} |",
                     p.label,
                     p.scene,
                     p.record.render_seconds,
                     if p.rendered_now { "" } else { " (kept)" },
-                    p.region_luminance,
-                    p.region_saturation
+                    lum.join(" | "),
+                    p.saturation
                 );
             }
             s.push('\n');
@@ -181,18 +195,25 @@ pub fn html(results: &[FigureResult], context: &Context) -> String {
             r.figure.id
         );
         if !r.panels.is_empty() {
-            s.push_str("<table><tr><th>panel</th><th>scene</th><th>render time</th><th>mean luminance (region)</th><th>mean saturation (region)</th></tr>\n");
+            s.push_str("<table><tr><th>panel</th><th>scene</th><th>render time</th>");
+            for g in r.figure.regions {
+                let _ = write!(s, "<th>mean luminance: {}</th>", escape(g.name));
+            }
+            let first = r.figure.regions.first().map_or("", |g| g.name);
+            let _ = writeln!(s, "<th>mean saturation: {}</th></tr>", escape(first));
             for p in &r.panels {
-                let _ = writeln!(
+                let _ = write!(
                     s,
-                    "<tr><td>{}</td><td><code>{}</code></td><td>{:.1} s{}</td><td>{:.4}</td><td>{:.3}</td></tr>",
+                    "<tr><td>{}</td><td><code>{}</code></td><td>{:.1} s{}</td>",
                     escape(p.label),
                     escape(p.scene),
                     p.record.render_seconds,
                     if p.rendered_now { "" } else { " (kept)" },
-                    p.region_luminance,
-                    p.region_saturation
                 );
+                for v in &p.region_luminance {
+                    let _ = write!(s, "<td>{v:.4}</td>");
+                }
+                let _ = writeln!(s, "<td>{:.3}</td></tr>", p.saturation);
             }
             s.push_str("</table>\n");
         }
