@@ -291,11 +291,19 @@ fn spectral_plot(args: &BcsdfArgs) -> Result<(), String> {
             image::Rgb([0, 160, 0]),
             image::Rgb([0, 0, 220]),
         ];
+        // Each curve joined from one column to the next (a vertical run
+        // between consecutive values), so steep peaks stay continuous.
+        let join = |img: &mut image::RgbImage, x: u32, from: u32, to: u32, ink| {
+            for yy in from.min(to)..=from.max(to) {
+                img.put_pixel(x, yy, ink);
+            }
+        };
         for (c, tint) in tints.iter().enumerate() {
             for (k, r) in rows.iter().enumerate() {
                 let x = c as u32 * (w + gap) + k as u32;
-                img.put_pixel(x, y(r[1 + c]), *tint);
-                img.put_pixel(x, y(r[4]), image::Rgb([0, 0, 0]));
+                let previous = &rows[k.saturating_sub(1)];
+                join(&mut img, x, y(previous[1 + c]), y(r[1 + c]), *tint);
+                join(&mut img, x, y(previous[4]), y(r[4]), image::Rgb([0, 0, 0]));
             }
         }
         img.save(path)
