@@ -8,11 +8,12 @@
 
 use super::pixel_format::saturating_f16;
 use super::{ColorEncoding, DataWindow, Image, ImageError, PixelFormat};
+use exr::meta::MetaData;
 use exr::prelude::{
     read, AnyChannel, AnyChannels, Encoding, FlatSamples, ImageAttributes, IntegerBounds, Layer,
     LayerAttributes, ReadChannels, ReadLayers, Text, Vec2, WritableImage,
 };
-use std::io::{BufReader, Read, Seek, Write};
+use std::io::{BufReader, Read, Seek, SeekFrom, Write};
 use std::path::Path;
 
 pub(crate) fn read_exr(path: &Path) -> Result<Image, ImageError> {
@@ -29,15 +30,48 @@ pub(crate) fn read_exr_with_window(path: &Path) -> Result<(Image, DataWindow), I
     read_exr_from(BufReader::new(file), path)
 }
 
+/// The most samples (pixels × channels) a layer may have: 2³⁰ (4 GiB of
+/// floats), and at most 2¹⁶ per byte of the file (far beyond what any
+/// compression reaches on real images). The `exr` crate allocates a
+/// layer's samples before it reads them, so a header announcing an absurd
+/// size would otherwise allocate without bound (found by fuzzing).
+const MAX_SAMPLES: u64 = 1 << 30;
+const MAX_SAMPLES_PER_BYTE: u64 = 1 << 16;
+
+/// Reads the header and refuses layers too large to allocate; leaves
+/// `source` at its start.
+fn check_size(source: &mut (impl Read + Seek)) -> Result<(), String> {
+    let io = |e: std::io::Error| format!("cannot read OpenEXR data: {e}");
+    let length = source.seek(SeekFrom::End(0)).map_err(io)?;
+    source.seek(SeekFrom::Start(0)).map_err(io)?;
+    let meta = MetaData::read_from_buffered(&mut *source, false)
+        .map_err(|error| format!("cannot read OpenEXR data: {error}"))?;
+    source.seek(SeekFrom::Start(0)).map_err(io)?;
+    let limit = MAX_SAMPLES.min(length.saturating_mul(MAX_SAMPLES_PER_BYTE));
+    for header in &meta.headers {
+        let (width, height) = (header.layer_size.0 as u64, header.layer_size.1 as u64);
+        let channels = header.channels.list.len() as u64;
+        let samples = width.saturating_mul(height).saturating_mul(channels);
+        if samples > limit {
+            return Err(format!(
+                "a layer of {width}×{height} pixels and {channels} channels has {samples} samples, \
+                 more than the {limit} read from a file of {length} bytes"
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// Reads OpenEXR data from `source` (`path` names it in errors).
 pub(crate) fn read_exr_from(
-    source: impl Read + Seek,
+    mut source: impl Read + Seek,
     path: &Path,
 ) -> Result<(Image, DataWindow), ImageError> {
     let malformed = |message: String| ImageError::Malformed {
         path: path.into(),
         message,
     };
+    check_size(&mut source).map_err(malformed)?;
     let exr_image = read()
         .no_deep_data()
         .largest_resolution_level()

@@ -358,7 +358,10 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
         if overrides.quick {
             4
         } else {
-            overrides.resolution_divisor.unwrap_or(1).min(i32::MAX as u32) as i32
+            overrides
+                .resolution_divisor
+                .unwrap_or(1)
+                .min(i32::MAX as u32) as i32
         },
     )?;
     if let Some([x0, x1, y0, y1]) = overrides.pixel_bounds {
@@ -509,6 +512,9 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
             };
         }
     };
+    // Where each Shape directive's primitives end, and its location (for
+    // the bounds check below).
+    let mut placed_ends = Vec::new();
     for ((placed_shapes, run_warnings, run_error), offsets) in runs.into_iter().zip(offsets) {
         warnings.extend(run_warnings);
         for placed in placed_shapes {
@@ -535,6 +541,7 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
                 });
             }
             group_ends[placed.group] = primitives.len();
+            placed_ends.push((primitives.len(), &placed.entity.entity.location.0));
         }
         if let Some(error) = run_error {
             return Err(error);
@@ -548,6 +555,23 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
         .par_iter()
         .map(|p| p.shape.bounds(&shapes))
         .collect();
+    // The BVH builder needs finite boxes (a projective transform or huge
+    // coordinates can give infinite or NaN ones; obvhs then indexes out
+    // of bounds).
+    let finite = |b: &Bounds3| b.min.is_finite() && b.max.is_finite();
+    if let Some(i) = bounds.par_iter().position_first(|b| !finite(b)) {
+        let b = bounds[i];
+        let message = format!(
+            "the shape's bounds in render space are not finite (from {} to {}): \
+             a projective transform or coordinates beyond the float range?",
+            b.min, b.max
+        );
+        let placed = placed_ends.partition_point(|&(end, _)| end <= i);
+        return match placed_ends.get(placed) {
+            Some((_, location)) => scene_error(message, location),
+            None => Err(crate::error::Error::Usage(message)),
+        };
+    }
     let object_ranges: Vec<std::ops::Range<usize>> = (1..group_ends.len())
         .map(|g| group_ends[g - 1]..group_ends[g])
         .collect();
