@@ -3,25 +3,16 @@
 //! same image byte for byte (both bases, constant and varying thickness,
 //! every optional array present and absent, 20,000 strands); the
 //! converter's errors; each strand of a cyhair file its own fibre frame.
+mod common;
+use common::rpbrt;
 
 use rpbrt::scene::build::{build, BuiltScene, RenderOverrides};
 use rpbrt::shapes::curve::CurveSegment;
 use rpbrt::shapes::cyhair::{hair_bytes, HairFile};
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn rpbrt<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rpbrt"))
-        .args(args)
-        .output()
-        .expect("run rpbrt")
-}
 
 fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("rpbrt-cyhair-it-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::fresh_dir("cyhair-it", name)
 }
 
 /// A small deterministic generator (no dependency for tests).

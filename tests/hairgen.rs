@@ -3,21 +3,14 @@
 //! the option, fur roots follow the mesh's area and normals, curly strands
 //! stay within their amplitude, and fur grows on the Stanford bunny (when
 //! `../shared` is there).
+mod common;
+use common::rpbrt;
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn rpbrt<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rpbrt"))
-        .args(args)
-        .output()
-        .expect("run rpbrt")
-}
+use std::process::Output;
 
 fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("rpbrt-hairgen-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::fresh_dir("hairgen", name)
 }
 
 fn stderr(out: &Output) -> String {

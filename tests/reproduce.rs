@@ -2,21 +2,13 @@
 //! comparison images, the plots and both pages with Table 2; a second run
 //! keeps what is there; a different quality renders again; a wrong figure
 //! name is refused.
+mod common;
+use common::rpbrt;
 
 use std::path::PathBuf;
-use std::process::{Command, Output};
-
-fn rpbrt(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rpbrt"))
-        .args(args)
-        .output()
-        .expect("run rpbrt")
-}
 
 fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("rpbrt-reproduce-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    dir
+    common::fresh_dir("reproduce", name)
 }
 
 fn read(path: &std::path::Path) -> String {

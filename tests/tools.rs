@@ -1,22 +1,15 @@
 //! The measuring tools as a user runs them: `rpbrt imgtool diff|assemble`,
 //! `rpbrt convergence`, and a frame split into `--pixelbounds` tiles
 //! rendered by separate processes (docs/scaling.md).
+mod common;
+use common::rpbrt;
 
 use rpbrt::image::Image;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-fn rpbrt<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_rpbrt"))
-        .args(args)
-        .output()
-        .expect("run rpbrt")
-}
-
 fn temp_dir(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("rpbrt-tools-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    dir
+    common::fresh_dir("tools", name)
 }
 
 fn write_rgb(path: &Path, width: u32, height: u32, data: Vec<f32>) {

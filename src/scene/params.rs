@@ -354,8 +354,14 @@ mod tests {
         crate::scene::schema::check(crate::scene::schema::Category::Shape, "sphere", &p, &here)
             .unwrap();
         p.float("radius", 1.0).unwrap();
-        let e = p.report_unused(|| "shape \"sphere\"".into()).unwrap_err().to_string();
-        assert!(e.contains("\"float zmax\": unused parameter") && e.contains("<t>:2:3"), "{e}");
+        let e = p
+            .report_unused(|| "shape \"sphere\"".into())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("\"float zmax\": unused parameter") && e.contains("<t>:2:3"),
+            "{e}"
+        );
         p.float("zmax", 1.0).unwrap();
         p.report_unused(|| "shape \"sphere\"".into()).unwrap();
     }

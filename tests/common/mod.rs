@@ -3,6 +3,23 @@
 
 use std::path::{Path, PathBuf};
 
+/// Runs the `rpbrt` binary with `args`.
+pub fn rpbrt<S: AsRef<std::ffi::OsStr>>(args: &[S]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_rpbrt"))
+        .args(args)
+        .output()
+        .expect("run rpbrt")
+}
+
+/// An empty folder for one test's files: `rpbrt-SUITE-PID-NAME` in the
+/// system's temporary folder (emptied if an earlier run left it).
+pub fn fresh_dir(suite: &str, name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("rpbrt-{suite}-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
 /// `../shared` beside the project, or `None` (with a message) when absent.
 pub fn shared_dir() -> Option<PathBuf> {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared");

@@ -63,7 +63,9 @@ pub fn timing_rows(results: &[FigureResult]) -> Vec<TimingRow> {
         .collect()
 }
 
-fn seconds_range(values: &[f64]) -> String {
+/// `values`' range as `lo–hi` (one value alone; "—" for none), each
+/// written by `show`.
+fn range(values: &[f64], show: impl Fn(f64) -> String) -> String {
     let (lo, hi) = values
         .iter()
         .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
@@ -71,21 +73,22 @@ fn seconds_range(values: &[f64]) -> String {
         });
     match values.len() {
         0 => "—".into(),
-        1 => format!("{lo:.1} s"),
-        _ => format!("{lo:.1}–{hi:.1} s"),
+        1 => show(lo),
+        _ => format!("{}–{}", show(lo), show(hi)),
+    }
+}
+
+fn seconds_range(values: &[f64]) -> String {
+    match values.len() {
+        0 | 1 => range(values, |v| format!("{v:.1} s")),
+        _ => format!("{} s", range(values, |v| format!("{v:.1}"))),
     }
 }
 
 fn ratio_range(values: &[f64]) -> String {
-    let (lo, hi) = values
-        .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
-            (lo.min(*v), hi.max(*v))
-        });
     match values.len() {
-        0 => "—".into(),
-        1 => format!("{lo:.2}×"),
-        _ => format!("{lo:.2}–{hi:.2}×"),
+        0 | 1 => range(values, |v| format!("{v:.2}×")),
+        _ => format!("{}×", range(values, |v| format!("{v:.2}"))),
     }
 }
 
