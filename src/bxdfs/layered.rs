@@ -6,13 +6,15 @@
 
 use super::geometry::{abs_cos_theta, same_hemisphere};
 use super::henyey_greenstein::HenyeyGreenstein;
-use super::random::{hash_floats, hash_seed_and_vector, hash_vector, Pcg32, ONE_MINUS_EPSILON};
 use super::{
     BSDFSample, BxDFFlags, BxDFReflTransFlags, ConductorBxDF, DielectricBxDF, DiffuseBxDF,
     TransportMode,
 };
+use crate::math::hash::{hash_floats, hash_seed_and_vector, hash_vector};
 use crate::math::lerp;
+use crate::math::pcg32::Pcg32;
 use crate::math::sampling::power_heuristic;
+use crate::math::ONE_MINUS_EPSILON;
 use crate::spectrum::SampledSpectrum;
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
@@ -227,7 +229,7 @@ impl<Top: LayerInterface, Bottom: LayerInterface, const TWO_SIDED: bool>
     /// A generator for one query, seeded by hashing its inputs so repeated
     /// queries give identical estimates.
     fn walk_rng(first: u64, second: u64) -> impl FnMut() -> f32 {
-        let mut rng = Pcg32::new(first, second);
+        let mut rng = Pcg32::new_with_seed(first, second);
         move || rng.uniform_f32().min(ONE_MINUS_EPSILON)
     }
 

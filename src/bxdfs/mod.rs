@@ -24,7 +24,6 @@ mod hair_ellipse_oracle;
 mod henyey_greenstein;
 mod layered;
 mod microfacet;
-mod random;
 mod thin_dielectric;
 mod transport_mode;
 

@@ -3,8 +3,8 @@
 //! sampling-consistency check, and pbrt-v4's χ² goodness-of-fit test of a
 //! sampling routine against its density.
 
-use super::random::Pcg32;
 use super::{BxDF, BxDFReflTransFlags, TransportMode, BSDF};
+use crate::math::pcg32::Pcg32;
 use crate::math::sampling::{sample_cosine_hemisphere, sample_uniform_sphere, UNIFORM_SPHERE_PDF};
 use glam::{Vec2, Vec3};
 use std::f64::consts::PI;
@@ -15,7 +15,7 @@ pub struct Pcg32Source(Pcg32);
 
 impl Pcg32Source {
     pub fn new(seed: u64) -> Self {
-        Pcg32Source(Pcg32::new(seed, 0x9e37_79b9_7f4a_7c15 ^ seed))
+        Pcg32Source(Pcg32::new_with_seed(seed, 0x9e37_79b9_7f4a_7c15 ^ seed))
     }
 
     pub fn next_f32(&mut self) -> f32 {

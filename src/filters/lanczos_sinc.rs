@@ -2,7 +2,7 @@
 
 use super::filter_sampler::FilterSampler;
 use super::FilterSample;
-use crate::samplers::Pcg32;
+use crate::math::pcg32::Pcg32;
 use glam::Vec2;
 use std::f32::consts::PI;
 

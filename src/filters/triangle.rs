@@ -1,7 +1,7 @@
 //! The triangle (tent) filter.
 
 use super::FilterSample;
-use crate::samplers::ONE_MINUS_EPSILON;
+use crate::math::ONE_MINUS_EPSILON;
 use glam::Vec2;
 
 /// Weight falling linearly to zero at the radius along each axis (pbrt-v4's

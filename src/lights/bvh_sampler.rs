@@ -12,13 +12,11 @@
 
 use super::light_bounds::{light_bounds, LightBounds};
 use super::{Light, LightSampleContext};
-use crate::math::{safe_sqrt, sqr, Bounds3};
+use crate::math::{safe_sqrt, sqr, Bounds3, ONE_MINUS_EPSILON};
 use crate::shapes::ShapeStorage;
 use glam::Vec3;
 use std::f32::consts::PI;
 
-/// pbrt's OneMinusEpsilon.
-const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
 const BUCKETS: usize = 12;
 
 #[derive(Clone, Copy, Debug)]

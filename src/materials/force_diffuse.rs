@@ -18,7 +18,8 @@
 
 use crate::bxdfs::{BxDF, BxDFReflTransFlags, DiffuseBxDF, TransportMode, BSDF};
 use crate::interaction::SurfaceInteraction;
-use crate::samplers::{hash_words, ONE_MINUS_EPSILON};
+use crate::math::hash::hash_words;
+use crate::math::ONE_MINUS_EPSILON;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::{Vec2, Vec3};
 
@@ -93,7 +94,7 @@ fn rotation(si: &SurfaceInteraction, lambda: &SampledWavelengths) -> [f32; 3] {
 mod tests {
     use super::*;
     use crate::bxdfs::{ConductorBxDF, DielectricBxDF, TrowbridgeReitzDistribution};
-    use crate::samplers::Pcg32;
+    use crate::math::pcg32::Pcg32;
 
     fn at_normal(bxdf: BxDF) -> BSDF {
         BSDF::new(Vec3::Z, Vec3::X, bxdf)

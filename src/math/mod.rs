@@ -6,6 +6,8 @@ pub mod equal_area;
 pub mod exp4;
 pub mod fast_atan2;
 pub mod frame;
+pub mod hash;
+pub mod pcg32;
 pub mod ray;
 pub mod sampling;
 pub mod transform;
@@ -14,6 +16,10 @@ pub use bounds::Bounds3;
 pub use frame::Frame;
 pub use ray::{offset_ray_origin, Ray};
 pub use transform::Transform;
+
+/// The largest f32 below 1 (pbrt-v4's `OneMinusEpsilon`): sample values
+/// are clamped to it so they stay in [0, 1).
+pub const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
 
 /// Clamped square root (0 for the small negative values rounding gives).
 #[inline]

@@ -1,9 +1,9 @@
 //! Random permutations of the digits of base-b numbers, one per digit
 //! position: the "permutedigits" scrambling of the Halton sampler.
 
-use super::hash::hash_words;
 use super::permutation::permutation_element;
 use super::primes::{PRIMES, PRIME_TABLE_SIZE};
+use crate::math::hash::hash_words;
 use std::sync::{Arc, OnceLock};
 
 /// How many base-`base` digits an f32 radical inverse resolves: digits are

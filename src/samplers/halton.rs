@@ -3,13 +3,13 @@
 //! indices land in each pixel.
 
 use super::digit_permutation::RadicalInversePermutations;
-use super::hash::mix_bits;
 use super::primes::PRIME_TABLE_SIZE;
 use super::radical_inverse::{
     inverse_radical_inverse, owen_scrambled_radical_inverse, radical_inverse,
     scrambled_radical_inverse,
 };
 use super::randomize_strategy::RandomizeStrategy;
+use crate::math::hash::mix_bits;
 use glam::{IVec2, Vec2};
 
 /// The Halton sequence's first two dimensions repeat over tiles of at most

@@ -1,7 +1,7 @@
 //! The independent sampler: uniform random values with no stratification.
 
-use super::hash::hash_words;
-use super::random_number_generator::Pcg32;
+use crate::math::hash::hash_words;
+use crate::math::pcg32::Pcg32;
 use glam::{IVec2, Vec2};
 
 /// Independent uniform random samples (pbrt-v4's `IndependentSampler`).

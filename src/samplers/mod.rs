@@ -41,13 +41,11 @@ mod bits;
 mod digit_permutation;
 pub mod distribution;
 mod halton;
-pub mod hash;
 mod independent;
 mod padded_sobol;
 mod permutation;
 mod primes;
 mod radical_inverse;
-mod random_number_generator;
 mod randomize_strategy;
 mod sobol;
 mod sobol_interval;
@@ -58,11 +56,9 @@ mod zsobol;
 
 pub use distribution::{Domain2D, PiecewiseConstant1D, PiecewiseConstant2D};
 pub use halton::HaltonSampler;
-pub use hash::{hash_words, mix_bits};
 pub use independent::IndependentSampler;
 pub use padded_sobol::PaddedSobolSampler;
 pub use permutation::permutation_element;
-pub use random_number_generator::Pcg32;
 pub use randomize_strategy::RandomizeStrategy;
 pub use sobol::SobolSampler;
 pub use sobol_matrices::SOBOL_DIMENSIONS;
@@ -72,10 +68,6 @@ pub use zsobol::ZSobolSampler;
 use crate::error::{scene_error, Result};
 use crate::scene::description::Entity;
 use glam::{IVec2, Vec2};
-
-/// The largest f32 below 1 (pbrt-v4's `OneMinusEpsilon`): sample values
-/// are clamped to it so they stay in [0, 1).
-pub const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
 
 /// Image sides beyond this are refused (the `sobol` sampler's pixel grid
 /// stops at 2^25; the others index pixels in 32-bit integers).

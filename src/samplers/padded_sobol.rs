@@ -2,10 +2,10 @@
 //! set of its own, its points dealt to the pixel's samples in a random
 //! order per pixel and dimension.
 
-use super::hash::hash_words;
 use super::permutation::permutation_element;
 use super::randomize_strategy::{BinaryScrambler, RandomizeStrategy};
 use super::sobol_sample::sobol_sample;
+use crate::math::hash::hash_words;
 use glam::{IVec2, Vec2};
 
 /// Per-pixel Sobol' points, padded across dimensions (pbrt-v4's

@@ -5,10 +5,10 @@
 //! resolving digits), so values agree bit for bit.
 
 use super::digit_permutation::DigitPermutation;
-use super::hash::mix_bits;
 use super::permutation::permutation_element;
 use super::primes::{divide_by_prime, PRIMES, PRIME_RECIPROCALS, PRIME_TABLE_SIZE};
-use super::ONE_MINUS_EPSILON;
+use crate::math::hash::mix_bits;
+use crate::math::ONE_MINUS_EPSILON;
 
 /// The base `PRIMES[base_index]` (the last prime past the table) and its
 /// reciprocal for `divide_by_prime`.

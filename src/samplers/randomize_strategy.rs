@@ -1,7 +1,7 @@
 //! How a low-discrepancy sampler randomizes its points (pbrt-v4's
 //! `RandomizeStrategy`, the samplers' `"randomization"` parameter).
 
-use super::hash::mix_bits;
+use crate::math::hash::mix_bits;
 
 /// A randomization, as named by the `"randomization"` parameter.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -1,12 +1,12 @@
 //! The global Sobol' sampler: one Sobol' sequence over the whole image, its
 //! first two dimensions spread over the pixels.
 
-use super::hash::hash_words;
 use super::randomize_strategy::{BinaryScrambler, RandomizeStrategy};
 use super::sobol_interval::{sobol_frame_index, sobol_pixel_index};
 use super::sobol_matrices::SOBOL_DIMENSIONS;
 use super::sobol_sample::sobol_sample;
-use super::ONE_MINUS_EPSILON;
+use crate::math::hash::hash_words;
+use crate::math::ONE_MINUS_EPSILON;
 use glam::{IVec2, Vec2};
 use std::sync::Arc;
 

@@ -1,10 +1,10 @@
 //! Points of the Sobol' sequence: the sample index multiplied by a
 //! dimension's generator matrix over GF(2), then scrambled.
 
-use super::random_number_generator::TWO_TO_MINUS_32;
 use super::randomize_strategy::BinaryScrambler;
 use super::sobol_matrices::{SOBOL_DIMENSIONS, SOBOL_MATRICES_32, SOBOL_MATRIX_SIZE};
-use super::ONE_MINUS_EPSILON;
+use crate::math::pcg32::TWO_TO_MINUS_32;
+use crate::math::ONE_MINUS_EPSILON;
 
 /// Coordinate `dimension` (below [`SOBOL_DIMENSIONS`]; larger ones wrap) of
 /// Sobol' point `index` (below 2^52; higher bits are ignored), scrambled.

@@ -1,9 +1,9 @@
 //! The stratified sampler: one jittered sample per stratum, with the strata
 //! of each dimension visited in an independent random order ("padding").
 
-use super::hash::hash_words;
 use super::permutation::permutation_element;
-use super::random_number_generator::Pcg32;
+use crate::math::hash::hash_words;
+use crate::math::pcg32::Pcg32;
 use glam::{IVec2, Vec2};
 
 /// Jittered stratified samples (pbrt-v4's `StratifiedSampler`).

@@ -4,9 +4,9 @@
 //! digits so neighbouring pixels' error decorrelates as blue noise.
 
 use super::bits::encode_morton_2;
-use super::hash::{hash_words, mix_bits};
 use super::randomize_strategy::{BinaryScrambler, RandomizeStrategy};
 use super::sobol_sample::sobol_sample;
+use crate::math::hash::{hash_words, mix_bits};
 use glam::{IVec2, Vec2};
 
 /// All 24 permutations of the four base-4 digit values.

@@ -11,8 +11,8 @@
 
 use crate::error::{scene_error, Result};
 use crate::interaction::SurfaceInteraction;
+use crate::math::hash::hash_words;
 use crate::math::Ray;
-use crate::samplers::hash::hash_words;
 use crate::scene::description::Shape;
 use crate::textures::{FloatTexture, NamedTextures, TextureEvalContext, TextureParams};
 use std::path::Path;

@@ -1,33 +1,35 @@
 //! Helpers for the shape tests: a small deterministic random generator and
 //! random directions.
 
+use crate::math::pcg32::Pcg32;
 use glam::{Vec2, Vec3};
 
-/// PCG32 (O'Neill): deterministic, good enough for tests.
-pub struct TestRng {
-    state: u64,
-}
+/// The stream the shape tests draw from: pcg-basic's default increment
+/// (not one of pbrt's `SetSequence` streams), kept so the tests' numbers
+/// do not change.
+const TEST_STREAM_INCREMENT: u64 = 1_442_695_040_888_963_407;
+
+/// The crate's PCG32 on a fixed stream, seeded by a scrambled `seed`, with
+/// 24-bit floats: deterministic, good enough for tests.
+pub struct TestRng(Pcg32);
 
 impl TestRng {
     pub fn new(seed: u64) -> Self {
-        let mut rng = TestRng {
-            state: seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ 0x853c_49e6_748f_ea9b,
-        };
+        let state = seed.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ 0x853c_49e6_748f_ea9b;
+        let mut rng = TestRng(Pcg32::from_state_and_increment(
+            state,
+            TEST_STREAM_INCREMENT,
+        ));
         rng.next_u32();
         rng
     }
 
     pub fn next_u32(&mut self) -> u32 {
-        let old = self.state;
-        self.state = old
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        let xorshifted = (((old >> 18) ^ old) >> 27) as u32;
-        let rotation = (old >> 59) as u32;
-        xorshifted.rotate_right(rotation)
+        self.0.uniform_u32()
     }
 
-    /// Uniform in [0, 1).
+    /// Uniform in [0, 1): the top 24 bits scaled by 2^-24 (unlike
+    /// [`Pcg32::uniform_f32`], which scales all 32).
     pub fn uniform(&mut self) -> f32 {
         (self.next_u32() >> 8) as f32 * (1.0 / (1u32 << 24) as f32)
     }

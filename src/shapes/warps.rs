@@ -6,10 +6,7 @@
 //! The four bilinear weights are the density's values at the corners
 //! (0,0), (1,0), (0,1), (1,1), in that order.
 
-use crate::math::lerp;
-
-/// The largest f32 below 1 (keeps warped samples in [0, 1)).
-pub const ONE_MINUS_EPSILON: f32 = 1.0 - f32::EPSILON / 2.0;
+use crate::math::{lerp, ONE_MINUS_EPSILON};
 
 /// A sample of the density proportional to `lerp(x, a, b)` on [0, 1].
 pub fn sample_linear(u: f32, a: f32, b: f32) -> f32 {

@@ -16,7 +16,7 @@
 //! | `--spread deg`   | then a uniform random tilt within a cone of that half-angle |
 
 use super::strand::perpendicular;
-use crate::samplers::Pcg32;
+use crate::math::pcg32::Pcg32;
 use glam::DVec3;
 use std::f64::consts::{FRAC_PI_2, TAU};
 
@@ -29,7 +29,7 @@ impl Random {
     pub fn new(seed: u64, kind: u64, index: u64) -> Self {
         let mut rng = Pcg32::default();
         rng.set_sequence_with_seed(
-            crate::samplers::mix_bits(index.wrapping_mul(2).wrapping_add(kind)),
+            crate::math::hash::mix_bits(index.wrapping_mul(2).wrapping_add(kind)),
             seed,
         );
         Random(rng)

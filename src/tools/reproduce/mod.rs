@@ -375,7 +375,7 @@ fn inputs_hash(scene: &str, recipes: &[&geometry::Recipe], bunny: &geometry::Bun
         }
     }
     all.push_str(env!("CARGO_PKG_VERSION"));
-    crate::samplers::hash::murmur_hash_64a(all.as_bytes(), 0)
+    crate::math::hash::murmur_hash_64a(all.as_bytes(), 0)
 }
 
 /// One panel to render.

@@ -1,7 +1,15 @@
-//! The hashes pbrt-v4's samplers derive their randomness from: a bit mixer
-//! for one 64-bit value and MurmurHash64A over the bytes of a few integers.
-//! Each sampler's values are a pure function of pixel, sample index,
-//! dimension and seed, so these must be bit-exact with pbrt's.
+//! The one hash family: a bit mixer for one 64-bit value (pbrt-v4's
+//! `MixBits`) and MurmurHash64A (Appleby) over the bytes of a few 32-bit
+//! words (pbrt-v4's `Hash(args...)`), with the helpers that hash
+//! directions and floats.
+//!
+//! pbrt-v4 uses the same hashes, so every value derived from them matches
+//! its own: the samplers' values (a pure function of pixel, sample index,
+//! dimension and seed), the seeds of the layered BxDF's random walks
+//! (hashes of ωo, ωi or the sample values), and stochastic alpha tests.
+//! These must stay bit-exact with pbrt's.
+
+use glam::Vec3;
 
 /// Scrambles the bits of a 64-bit value (Stafford's "Mix13" variant of the
 /// SplitMix64 finaliser; pbrt-v4's `MixBits`).
@@ -43,9 +51,10 @@ pub fn murmur_hash_64a(bytes: &[u8], seed: u64) -> u64 {
     hash
 }
 
-/// pbrt-v4's `Hash(args...)` for 32-bit integer arguments (`int`,
-/// `uint32_t`, a `Point2i` as its two coordinates): MurmurHash64A with seed
-/// 0 over the arguments' bytes laid end to end. At most 8 words.
+/// pbrt-v4's `Hash(args...)` for 32-bit arguments (`int`, `uint32_t`,
+/// `float`, a `Point2i` as its two coordinates): MurmurHash64A with seed 0
+/// over the arguments' bytes laid end to end (little-endian). At most 8
+/// words; any beyond the eighth are ignored.
 pub fn hash_words(words: &[u32]) -> u64 {
     let mut bytes = [0u8; 32];
     let count = words.len().min(8);
@@ -53,6 +62,25 @@ pub fn hash_words(words: &[u32]) -> u64 {
         bytes[4 * i..4 * i + 4].copy_from_slice(&word.to_le_bytes());
     }
     murmur_hash_64a(&bytes[..4 * count], 0)
+}
+
+/// Hash of a direction (its three floats' bits).
+pub fn hash_vector(v: Vec3) -> u64 {
+    hash_words(&[v.x.to_bits(), v.y.to_bits(), v.z.to_bits()])
+}
+
+/// Hash of an integer seed followed by a direction.
+pub fn hash_seed_and_vector(seed: i32, v: Vec3) -> u64 {
+    hash_words(&[seed as u32, v.x.to_bits(), v.y.to_bits(), v.z.to_bits()])
+}
+
+/// Hash of a list of at most 8 floats.
+pub fn hash_floats(values: &[f32]) -> u64 {
+    let mut words = [0u32; 8];
+    for (word, value) in words.iter_mut().zip(values) {
+        *word = value.to_bits();
+    }
+    hash_words(&words[..values.len()])
 }
 
 #[cfg(test)]
@@ -93,5 +121,19 @@ mod tests {
         assert_ne!(a, hash_words(&[2, 1, 3]));
         assert_ne!(a, hash_words(&[1, 2, 3, 0]));
         assert_eq!(a, hash_words(&[1, 2, 3]));
+    }
+
+    #[test]
+    fn murmur_hash_is_sensitive_to_every_byte_and_the_tail() {
+        // Known value: MurmurHash64A of the empty input with seed 0 is 0.
+        assert_eq!(murmur_hash_64a(&[], 0), 0);
+        let a = hash_vector(Vec3::new(0.1, 0.2, 0.3));
+        assert_eq!(a, hash_vector(Vec3::new(0.1, 0.2, 0.3)));
+        assert_ne!(a, hash_vector(Vec3::new(0.1, 0.2, 0.300_000_03)));
+        assert_ne!(a, hash_seed_and_vector(0, Vec3::new(0.1, 0.2, 0.3)));
+        assert_ne!(
+            hash_floats(&[1.0, 2.0, 3.0]),
+            hash_floats(&[1.0, 2.0, 3.000_000_2])
+        );
     }
 }

@@ -1,5 +1,11 @@
-//! pbrt-v4's random number generator: O'Neill's PCG32 (XSH RR output on a
+//! The one random number generator: O'Neill's PCG32 (XSH RR output on a
 //! 64-bit LCG), with selectable streams and O(log n) skipping ahead.
+//!
+//! This is pbrt-v4's `RNG`, bit for bit (same multiplier, default state and
+//! stream, `SetSequence` seeding and float conversion), so every stream
+//! drawn from it — the `independent` and `stratified` samplers' values, the
+//! layered BxDF's random walks, the hair generator's roots — matches the
+//! one pbrt-v4 draws for the same seeds.
 
 use super::hash::mix_bits;
 use super::ONE_MINUS_EPSILON;
@@ -8,7 +14,8 @@ const DEFAULT_STATE: u64 = 0x853c_49e6_748f_ea9b;
 const DEFAULT_STREAM: u64 = 0xda3e_39cb_94b9_5bdb;
 const MULTIPLIER: u64 = 0x5851_f42d_4c95_7f2d;
 
-/// A PCG32 generator (pbrt-v4's `RNG`).
+/// A PCG32 generator (pbrt-v4's `RNG`): 64-bit LCG state, 32-bit permuted
+/// output; the increment selects one of 2^63 independent streams.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct Pcg32 {
     state: u64,
@@ -25,11 +32,26 @@ impl Default for Pcg32 {
 }
 
 impl Pcg32 {
-    /// A generator on stream `sequence_index`, seeded from it.
+    /// A generator on stream `sequence_index`, seeded from it (pbrt's
+    /// `RNG(seqIndex)`: the seed is `MixBits(seqIndex)`).
     pub fn new(sequence_index: u64) -> Self {
         let mut rng = Pcg32::default();
         rng.set_sequence(sequence_index);
         rng
+    }
+
+    /// A generator on stream `sequence_index`, started at an offset given
+    /// by `seed` (pbrt's `RNG(seqIndex, start)`).
+    pub fn new_with_seed(sequence_index: u64, seed: u64) -> Self {
+        let mut rng = Pcg32::default();
+        rng.set_sequence_with_seed(sequence_index, seed);
+        rng
+    }
+
+    /// A generator with the given raw LCG state and increment, nothing
+    /// stepped or mixed (the increment should be odd).
+    pub fn from_state_and_increment(state: u64, increment: u64) -> Self {
+        Pcg32 { state, increment }
     }
 
     /// Selects stream `sequence_index` and starts it from `seed`.
@@ -54,7 +76,7 @@ impl Pcg32 {
         xor_shifted.rotate_right(rotation)
     }
 
-    /// Uniform in [0, 1).
+    /// Uniform in [0, 1): all 32 bits scaled by 2^-32, clamped below 1.
     pub fn uniform_f32(&mut self) -> f32 {
         (self.uniform_u32() as f32 * TWO_TO_MINUS_32).min(ONE_MINUS_EPSILON)
     }
@@ -111,6 +133,24 @@ mod tests {
     }
 
     #[test]
+    fn new_with_seed_matches_the_reference_stream() {
+        // The PCG reference demo (pcg32-demo, seeded with initstate 42,
+        // initseq 54) prints these first outputs.
+        let mut rng = Pcg32::new_with_seed(54, 42);
+        let expected = [
+            0xa15c_02b7u32,
+            0x7b47_f409,
+            0xba1d_3330,
+            0x83d2_f293,
+            0xbfa4_784b,
+            0xcbed_606e,
+        ];
+        for e in expected {
+            assert_eq!(rng.uniform_u32(), e);
+        }
+    }
+
+    #[test]
     fn advance_equals_stepping() {
         let mut stepped = Pcg32::new(42);
         let mut skipped = stepped;
@@ -133,5 +173,18 @@ mod tests {
             sum += u;
         }
         assert!((sum / 10_000.0 - 0.5).abs() < 0.02);
+    }
+
+    #[test]
+    fn uniform_floats_stay_below_one_and_look_uniform() {
+        let mut rng = Pcg32::new_with_seed(1, 2);
+        let n = 100_000;
+        let mut sum = 0.0f64;
+        for _ in 0..n {
+            let u = rng.uniform_f32();
+            assert!((0.0..1.0).contains(&u));
+            sum += u as f64;
+        }
+        assert!((sum / n as f64 - 0.5).abs() < 0.005);
     }
 }
