@@ -9,9 +9,12 @@
 //! are marked [`PixelFormat::Half`]: pbrt-v4 decodes them into half floats.
 
 use super::{color_encoding::linear_to_srgb8, ColorEncoding, Image, ImageError, PixelFormat};
-use ::image::{DynamicImage, ImageEncoder, ImageFormat, ImageReader};
-use std::io::{BufRead, BufReader, Seek, Write};
+use ::image::{DynamicImage, ImageEncoder, ImageFormat, ImageReader, Limits};
+use std::io::{BufRead, BufReader, Seek, SeekFrom, Write};
 use std::path::Path;
+
+/// The most bytes a decoded image may take per byte of its file.
+const MAX_BYTES_PER_FILE_BYTE: u64 = 1 << 16;
 
 /// Reads a PNG, TGA or JPEG file (`format` says which).
 pub(crate) fn read_with_image_crate(path: &Path, format: ImageFormat) -> Result<Image, ImageError> {
@@ -24,7 +27,7 @@ pub(crate) fn read_with_image_crate(path: &Path, format: ImageFormat) -> Result<
 
 /// Decodes PNG, TGA or JPEG data from `source` (`path` names it in errors).
 pub(crate) fn read_with_image_crate_from(
-    source: impl BufRead + Seek,
+    mut source: impl BufRead + Seek,
     path: &Path,
     format: ImageFormat,
 ) -> Result<Image, ImageError> {
@@ -32,7 +35,27 @@ pub(crate) fn read_with_image_crate_from(
         path: path.into(),
         message,
     };
-    let decoded = ImageReader::with_format(source, format)
+    let io = |source: std::io::Error| ImageError::Io {
+        path: path.into(),
+        source,
+    };
+    let length = source.seek(SeekFrom::End(0)).map_err(io)?;
+    source.seek(SeekFrom::Start(0)).map_err(io)?;
+    // The decoded image may take at most 2¹⁶ bytes per byte of the file
+    // (far beyond what real compression reaches) within the crate's
+    // default 512 MiB: a few hundred bytes of truncated JPEG announcing a
+    // huge image otherwise decoded into hundreds of megabytes (found by
+    // fuzzing).
+    let mut limits = Limits::default();
+    limits.max_alloc = Some(
+        limits
+            .max_alloc
+            .unwrap_or(u64::MAX)
+            .min(length.saturating_mul(MAX_BYTES_PER_FILE_BYTE)),
+    );
+    let mut reader = ImageReader::with_format(source, format);
+    reader.limits(limits);
+    let decoded = reader
         .decode()
         .map_err(|error| malformed(format!("cannot decode {format:?} data: {error}")))?;
     let (width, height) = (decoded.width(), decoded.height());
