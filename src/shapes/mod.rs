@@ -569,29 +569,27 @@ pub fn create_shapes(
             }
             shapes
         }
-        "curve" | "bcurve" => {
+        "curve" | "bcurve" | "cyhair" => {
+            // Both append segments and pieces; the shape's are the new pieces.
             let first = storage.curve_pieces.len() as u32;
-            curve::create_curves(
-                shape,
-                render_from_object,
-                reverse_orientation,
-                &mut storage.curve_segments,
-                &mut storage.curve_pieces,
-            )?;
-            (first..storage.curve_pieces.len() as u32)
-                .map(Shape::Curve)
-                .collect()
-        }
-        "cyhair" => {
-            let first = storage.curve_pieces.len() as u32;
-            cyhair::create_cyhair(
-                shape,
-                render_from_object,
-                reverse_orientation,
-                base_directory,
-                &mut storage.curve_segments,
-                &mut storage.curve_pieces,
-            )?;
+            if kind == "cyhair" {
+                cyhair::create_cyhair(
+                    shape,
+                    render_from_object,
+                    reverse_orientation,
+                    base_directory,
+                    &mut storage.curve_segments,
+                    &mut storage.curve_pieces,
+                )?;
+            } else {
+                curve::create_curves(
+                    shape,
+                    render_from_object,
+                    reverse_orientation,
+                    &mut storage.curve_segments,
+                    &mut storage.curve_pieces,
+                )?;
+            }
             (first..storage.curve_pieces.len() as u32)
                 .map(Shape::Curve)
                 .collect()
