@@ -262,17 +262,25 @@ pub fn make(recipe: &Recipe, scenes: &Path, bunny: &BunnyMesh) -> Result<()> {
     if out.is_file() && std::fs::read_to_string(&stamp_path).ok().as_deref() == Some(&stamp) {
         return Ok(());
     }
+    let parsed = parse_hairgen(args)
+        .map_err(|e| Error::Usage(format!("hairgen recipe for {}: {e}", recipe.file)))?;
+    crate::tools::hairgen::run(&parsed)?;
+    std::fs::write(&stamp_path, stamp).map_err(io_error(&stamp_path))
+}
+
+/// `rpbrt hairgen`'s arguments from a recipe's command line (without the
+/// command's name).
+fn parse_hairgen<S: Into<std::ffi::OsString> + Clone>(
+    args: impl IntoIterator<Item = S>,
+) -> std::result::Result<crate::tools::hairgen::HairgenArgs, clap::Error> {
     #[derive(clap::Parser)]
     struct Hairgen {
         #[command(flatten)]
         args: crate::tools::hairgen::HairgenArgs,
     }
-    let parsed = <Hairgen as clap::Parser>::try_parse_from(
-        std::iter::once("hairgen".to_string()).chain(args),
-    )
-    .map_err(|e| Error::Usage(format!("hairgen recipe for {}: {e}", recipe.file)))?;
-    crate::tools::hairgen::run(&parsed.args)?;
-    std::fs::write(&stamp_path, stamp).map_err(io_error(&stamp_path))
+    let argv = std::iter::once(std::ffi::OsString::from("hairgen"))
+        .chain(args.into_iter().map(Into::into));
+    <Hairgen as clap::Parser>::try_parse_from(argv).map(|h| h.args)
 }
 
 /// Writes `geometry/bunny-mesh.pbrt` (the scene includes it) and returns
@@ -375,19 +383,13 @@ mod tests {
 
     #[test]
     fn recipes_parse_as_hairgen_command_lines() {
-        #[derive(clap::Parser)]
-        struct Hairgen {
-            #[command(flatten)]
-            args: crate::tools::hairgen::HairgenArgs,
-        }
         for recipe in RECIPES {
-            let mut args: Vec<&str> = vec!["hairgen"];
-            args.extend(recipe.hairgen);
+            let mut args: Vec<&str> = recipe.hairgen.to_vec();
             if recipe.on_bunny {
                 args.extend(["--mesh", "bunny.ply"]);
             }
             args.extend(["--out", "x.pbrt.gz"]);
-            if let Err(e) = <Hairgen as clap::Parser>::try_parse_from(&args) {
+            if let Err(e) = parse_hairgen(args) {
                 panic!("{}: {e}", recipe.file);
             }
         }

@@ -161,6 +161,9 @@ pub struct PanelResult {
     /// Mean saturation (max − min) / max over the first region's lit
     /// pixels.
     pub saturation: f64,
+    /// The rendered image: width, height, linear RGB (read once, for the
+    /// measurements and the figure).
+    pub rgb: (usize, usize, Vec<f32>),
 }
 
 /// A figure's outcome.
@@ -466,6 +469,7 @@ fn render_panel(args: &ReproduceArgs, job: &PanelJob, bar: &ProgressBar) -> Resu
         rendered_now,
         region_luminance,
         saturation,
+        rgb: (width, height, rgb),
     })
 }
 
@@ -508,13 +512,7 @@ fn compose_figure(
     difference: Option<(usize, usize)>,
     difference_scale: f32,
 ) -> Result<String> {
-    let mut images = Vec::new();
-    for p in panels {
-        let stem = p.scene.trim_end_matches(".pbrt");
-        images.push(crate::tools::imgtool::read_rgb(
-            &out.join(figure.id).join(format!("{stem}.exr")),
-        )?);
-    }
+    let images: Vec<&(usize, usize, Vec<f32>)> = panels.iter().map(|p| &p.rgb).collect();
     let difference_pixels = match difference {
         Some((a, b)) if images[a].0 == images[b].0 && images[a].1 == images[b].1 => Some((
             images[a].0,
