@@ -3,7 +3,7 @@
 
 use clap::Parser as _;
 use rpbrt::tools::{
-    bcsdf, convergence, cyhair2pbrt, hairgen, imgtool, render_scene, report, reproduce,
+    bcsdf, convergence, cyhair2pbrt, hairgen, imgtool, mie, render_scene, report, reproduce,
 };
 use std::process::ExitCode;
 
@@ -38,6 +38,8 @@ enum Command {
     Hairgen(hairgen::HairgenArgs),
     /// Renders the paper's figures (Benamira & Pattanaik 2021) with a page of results.
     Reproduce(reproduce::ReproduceArgs),
+    /// Exact (Lorenz–Mie) scattering by a circular cylinder: the wave-optics reference for fibres.
+    Mie(mie::MieArgs),
 }
 
 fn main() -> ExitCode {
@@ -67,6 +69,12 @@ fn main() -> ExitCode {
         Some(Command::Cyhair2pbrt(args)) => (cyhair2pbrt::run(args).map(|()| ExitCode::SUCCESS), 1),
         Some(Command::Hairgen(args)) => (hairgen::run(args).map(|()| ExitCode::SUCCESS), 1),
         Some(Command::Reproduce(args)) => (reproduce::run(args).map(|()| ExitCode::SUCCESS), 1),
+        Some(Command::Mie(args)) => (
+            mie::run(args)
+                .map(|()| ExitCode::SUCCESS)
+                .map_err(rpbrt::error::Error::Usage),
+            1,
+        ),
     };
     outcome.unwrap_or_else(|e| {
         eprintln!("error: {e}");

@@ -12,6 +12,7 @@ pub mod hairgen;
 pub mod heat_map;
 pub mod imgdiff;
 pub mod imgtool;
+pub mod mie;
 pub mod peak_memory;
 pub mod plot;
 pub mod render_scene;
