@@ -94,6 +94,11 @@ fn invalid_dual_hair_parameters_name_their_location() {
             "\"internal_fresnel\" must be one of",
         ),
         (
+            "Material \"hair\" \"string diffraction\" \"closedform\" \"float s_diff\" 0.01",
+            "3:51",
+            "no meaning with \"diffraction\" \"closedform\" or \"spectral\"",
+        ),
+        (
             "Material \"hair\" \"float s_diff\" 0",
             "3:17",
             "\"s_diff\" must be positive",
@@ -101,7 +106,7 @@ fn invalid_dual_hair_parameters_name_their_location() {
         (
             "Material \"hair\" \"string diffraction\" \"spectral\" \"float s_diff\" 0.01",
             "3:49",
-            "no meaning with \"diffraction\" \"spectral\"",
+            "no meaning with \"diffraction\" \"closedform\" or \"spectral\"",
         ),
     ];
     for (material, at, message) in cases {
@@ -447,7 +452,8 @@ fn the_fibre_reflects_where_the_ray_meets_it() {
 
 /// The scene's words map to the model's settings: `variant "paper"` brings
 /// the paper's internal Fresnel unless `internal_fresnel` says otherwise,
-/// the exact variant pbrt's; the diffraction mode as named. (Degrees for
+/// the exact variant pbrt's; the diffraction mode as named, by default the
+/// closed form (the logistic with the paper's variant or `s_diff`). (Degrees for
 /// `ellipse_orientation` are checked through the ring's width in
 /// `ellipse_reference_orients_the_major_axis`: 90 turns the axis a quarter.)
 #[test]
@@ -465,6 +471,15 @@ fn dual_parameters_map_to_the_model() {
     let base = "Material \"hair\" \"float ellipse_a\" 30 \"float ellipse_b\" 20";
     assert_eq!(
         settings(base),
+        (Variant::Exact, InternalFresnel::Pbrt, Diffraction::ClosedForm)
+    );
+    // The paper's artistic control s_diff is the logistic's scale.
+    assert_eq!(
+        settings(&format!("{base} \"float s_diff\" 0.02")),
+        (Variant::Exact, InternalFresnel::Pbrt, Diffraction::Logistic)
+    );
+    assert_eq!(
+        settings(&format!("{base} \"string diffraction\" \"logistic\"")),
         (Variant::Exact, InternalFresnel::Pbrt, Diffraction::Logistic)
     );
     assert_eq!(

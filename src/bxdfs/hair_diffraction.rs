@@ -4,7 +4,11 @@
 //! (Babinet), C_diff = sinc²(D/λ · sin Δ) (Eq. 33), Δ the deflection from
 //! straight on.
 //!
-//! Two azimuthal distributions:
+//! Three azimuthal distributions:
+//! - `ClosedForm` (the default): a closed form of the CIE-ȳ-weighted
+//!   spectral integral with its 1/Δ² tail: a parabolic (Epanechnikov)
+//!   core plus a truncated Cauchy, both scaling as 1/D, sampled exactly by
+//!   inverting either part's CDF ([`ClosedFormLobe`]).
 //! - `Logistic`: the paper's N_diff (Eq. 35), a logistic of scale s_diff
 //!   centred on the forward direction. The paper's fit (Eq. 36) is nearly
 //!   flat in D, while the spectrally integrated pattern's width scales
@@ -25,6 +29,7 @@ use std::f32::consts::{FRAC_PI_2, PI};
 /// How the diffracted light spreads in azimuth.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Diffraction {
+    ClosedForm,
     Logistic,
     Spectral,
 }
@@ -46,6 +51,73 @@ pub fn eq36_scale(d_m: f32) -> f32 {
 /// The project's fitted logistic scale for a projected width in µm.
 pub fn fitted_scale(d_um: f32) -> f32 {
     FITTED_KAPPA_UM / d_um.max(1e-3)
+}
+
+/// The closed-form lobe's constants, in µm·rad (functions of u = D Δ, as
+/// the pattern is one of D sin Δ): least-L1 fit of the CIE-ȳ-weighted
+/// spectral integral over 380–780 nm (the objective: L1 over all u plus
+/// L1 over u > 1.31 µm·rad, i.e. beyond 1° at D = 75 µm). The fit lands
+/// the Cauchy's tail w c / (π u²) on the band average of the sinc²
+/// envelope, ⟨λ⟩ / (2π² u²) (w c = 0.08913 against ⟨λ⟩/2π = 0.08916),
+/// which is what a logistic cannot have (test
+/// `closed_form_fits_the_spectral_integral`).
+pub const CLOSED_FORM_CAUCHY_WEIGHT: f32 = 0.4475;
+pub const CLOSED_FORM_CAUCHY_SCALE_UM: f32 = 0.1992;
+pub const CLOSED_FORM_CORE_HALF_WIDTH_UM: f32 = 0.3791;
+
+/// The closed-form N_diff for one projected width: weight w of a Cauchy
+/// of scale c / D truncated to |Δ| ≤ π/2, and 1 − w of an Epanechnikov
+/// (parabolic) core ¾ (1 − (Δ/s)²) / s of half-width s / D.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ClosedFormLobe {
+    cauchy_scale: f32,
+    /// atan(π/2 / c): the truncated Cauchy's mass is 2 atan(π/2 / c) / π.
+    cauchy_half_angle: f32,
+    core_half_width: f32,
+}
+
+impl ClosedFormLobe {
+    pub fn new(d_um: f32) -> Self {
+        let d_um = d_um.max(1e-3);
+        let cauchy_scale = CLOSED_FORM_CAUCHY_SCALE_UM / d_um;
+        ClosedFormLobe {
+            cauchy_scale,
+            cauchy_half_angle: (FRAC_PI_2 / cauchy_scale).atan(),
+            core_half_width: (CLOSED_FORM_CORE_HALF_WIDTH_UM / d_um).min(FRAC_PI_2),
+        }
+    }
+
+    /// The density at Δ ∈ [−π, π] (zero behind, |Δ| > π/2).
+    pub fn density(&self, delta: f32) -> f32 {
+        if delta.abs() > FRAC_PI_2 {
+            return 0.0;
+        }
+        let c = self.cauchy_scale;
+        let cauchy = c / (sqr(c) + sqr(delta)) / (2.0 * self.cauchy_half_angle);
+        let x = delta / self.core_half_width;
+        let core = if x.abs() < 1.0 {
+            0.75 * (1.0 - sqr(x)) / self.core_half_width
+        } else {
+            0.0
+        };
+        CLOSED_FORM_CAUCHY_WEIGHT * cauchy + (1.0 - CLOSED_FORM_CAUCHY_WEIGHT) * core
+    }
+
+    /// Samples [`ClosedFormLobe::density`]: `u` picks the part, then that
+    /// part's CDF is inverted (the core's cubic CDF by x = 2 sin(asin(2u −
+    /// 1)/3)).
+    pub fn sample(&self, u: f32) -> f32 {
+        let w = CLOSED_FORM_CAUCHY_WEIGHT;
+        if u < w {
+            let u = u / w;
+            (self.cauchy_scale * ((2.0 * u - 1.0) * self.cauchy_half_angle).tan())
+                .clamp(-FRAC_PI_2, FRAC_PI_2)
+        } else {
+            let u = ((u - w) / (1.0 - w)).clamp(0.0, 1.0);
+            let x = 2.0 * ((2.0 * u - 1.0).asin() / 3.0).sin();
+            (self.core_half_width * x).clamp(-self.core_half_width, self.core_half_width)
+        }
+    }
 }
 
 /// sinc(x) = sin(πx)/(πx).
@@ -185,6 +257,87 @@ mod tests {
             let cdf = 0.5 + ((1.0 / k) / c).atan() / (2.0 * a);
             assert!((below - cdf).abs() < 1e-3, "k {k}: {below} vs {cdf}");
         }
+    }
+
+    /// The closed-form lobe is a density on |Δ| ≤ π/2 whose sampler
+    /// inverts its CDF, at widths from thin to thick.
+    #[test]
+    fn closed_form_is_normalised_and_sampled_by_its_cdf() {
+        for d_um in [0.2f32, 5.0, 50.0, 75.0, 120.0] {
+            let lobe = ClosedFormLobe::new(d_um);
+            let n = 400_000;
+            let h = PI / n as f32;
+            let grid = |i: usize| -FRAC_PI_2 + (i as f32 + 0.5) * h;
+            let sum: f64 = (0..n).map(|i| (lobe.density(grid(i)) * h) as f64).sum();
+            assert!((sum - 1.0).abs() < 2e-3, "D {d_um}: ∫ = {sum}");
+            assert_eq!(lobe.density(2.0), 0.0, "nothing behind");
+            // The fraction of stratified samples below t against the
+            // quadrature CDF, at thresholds across core and tail.
+            let m = 20_000;
+            let samples: Vec<f32> = (0..m)
+                .map(|i| lobe.sample((i as f32 + 0.5) / m as f32))
+                .collect();
+            assert!(samples.iter().all(|x| x.abs() <= FRAC_PI_2));
+            for t in [-0.5f32, -0.3, -0.05, 0.0, 0.2, 1.0, 3.0].map(|k| k / d_um.max(1.0)) {
+                let below = samples.iter().filter(|&&x| x < t).count() as f64 / m as f64;
+                let cdf: f64 = (0..n)
+                    .take_while(|&i| grid(i) < t)
+                    .map(|i| (lobe.density(grid(i)) * h) as f64)
+                    .sum();
+                assert!(
+                    (below - cdf).abs() < 2e-3,
+                    "D {d_um}, t {t}: {below} vs {cdf}"
+                );
+            }
+        }
+    }
+
+    /// The closed form against the CIE-ȳ-weighted spectral integral it
+    /// stands for, and the logistic beside it: L1 over the forward half
+    /// circle and beyond 1° (at D = 75 µm; both are functions of D Δ). The
+    /// closed form's tail matches the band-averaged sinc² envelope
+    /// ⟨λ⟩/(2π² u²), ⟨λ⟩ the ȳ-weighted mean wavelength.
+    #[test]
+    fn closed_form_fits_the_spectral_integral() {
+        let d_um = 75.0f32;
+        let (closed, logistic) = (
+            ClosedFormLobe::new(d_um),
+            super::super::hair::TrimmedLogistic::new(fitted_scale(d_um)),
+        );
+        // Δ ≥ 0 (all three are even): fine steps over the peak, coarser
+        // in the tail.
+        let (mut l1, mut l1_tail) = ([0.0f64; 2], [0.0f64; 2]);
+        let mut delta = 0.0f32;
+        while delta < FRAC_PI_2 {
+            let h = if delta < 0.15 { 2e-5 } else { 5e-4 };
+            let x = delta + 0.5 * h;
+            let target = spectral_integral(x, d_um, cie_y);
+            for (k, model) in [closed.density(x), logistic.density(x)].iter().enumerate() {
+                let e = 2.0 * ((model - target).abs() * h) as f64;
+                l1[k] += e;
+                if x > 1f32.to_radians() {
+                    l1_tail[k] += e;
+                }
+            }
+            delta += h;
+        }
+        eprintln!(
+            "against the spectral integral at D = 75 µm: L1 closed form {:.4} (beyond 1°: {:.4}), logistic {:.4} ({:.4})",
+            l1[0], l1_tail[0], l1[1], l1_tail[1]
+        );
+        assert!(l1[0] < 0.075 && l1[0] < 0.5 * l1[1], "{l1:?}");
+        assert!(
+            l1_tail[0] < 0.007 && l1_tail[0] < 0.2 * l1_tail[1],
+            "{l1_tail:?}"
+        );
+        let (mut num, mut den) = (0.0f64, 0.0f64);
+        for lambda in 380..=780 {
+            num += (cie_y(lambda as f32) * lambda as f32 / 1000.0) as f64;
+            den += cie_y(lambda as f32) as f64;
+        }
+        let tail = (CLOSED_FORM_CAUCHY_WEIGHT * CLOSED_FORM_CAUCHY_SCALE_UM) as f64;
+        let envelope = num / den / (2.0 * std::f64::consts::PI);
+        assert!((tail / envelope - 1.0).abs() < 0.01, "{tail} vs {envelope}");
     }
 
     /// The fit behind `FITTED_KAPPA_UM`: for D = 50…100 µm the fitted

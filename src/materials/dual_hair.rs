@@ -9,8 +9,8 @@
 //! | `float ellipse_orientation` | 0 | major axis angle (degrees) about the fibre, from the strand's reference direction across it (below) |
 //! | `vector3 ellipse_reference` | — | for cylinder and flat curves: the reference is this world-space direction projected onto the fibre's cross-section plane at each point |
 //! | `bool ellipse_random` | false | for cylinder and flat curves: each strand's reference is turned by its own angle, drawn from the strand (deterministic), as real hair's fibres are not lined up |
-//! | `string diffraction` | `"logistic"` | `"logistic"` (N_diff, Eq. 35) or `"spectral"` (exact sinc² per wavelength) |
-//! | `float s_diff` | fitted to the width (κ/D; Eq. 36 with `variant "paper"`) | the logistic N_diff's scale in radians, > 0 (the paper's artistic control); with `"spectral"` an error |
+//! | `string diffraction` | `"closedform"` (`"logistic"` with `s_diff` or `variant "paper"`) | `"closedform"` (the ȳ-weighted Fraunhofer pattern in closed form: parabolic core and 1/Δ² tail, sampled exactly), `"logistic"` (N_diff, Eq. 35) or `"spectral"` (exact sinc² per wavelength) |
+//! | `float s_diff` | fitted to the width (κ/D; Eq. 36 with `variant "paper"`) | the logistic N_diff's scale in radians, > 0 (the paper's artistic control); with `"closedform"` or `"spectral"` an error |
 //! | `string variant` | `"exact"` | `"exact"` or `"paper"` (Eq. 7, 22, 36 as printed) |
 //! | `string internal_fresnel` | `"pbrt"` (`"paper"` with `variant "paper"`) | inner interfaces' Fresnel: `"pbrt"` (each interface from its own side; pbrt's f0 for a circle) or `"paper"` (Eq. 22/24's f_p = air → hair Fresnel at the internal angle) |
 //!
@@ -114,7 +114,7 @@ pub fn read(p: &ParamSet) -> Result<Option<(DualHairParams, Vec2)>> {
     let b = number("ellipse_b")?;
     let d_diff = number("d_diff")?;
     let orientation = number("ellipse_orientation")?;
-    let diffraction = choice("diffraction", &["logistic", "spectral"])?;
+    let diffraction = choice("diffraction", &["closedform", "logistic", "spectral"])?;
     let s_diff = number("s_diff")?;
     let variant = choice("variant", &["exact", "paper"])?;
     let fresnel = choice("internal_fresnel", &["pbrt", "paper"])?;
@@ -168,15 +168,19 @@ pub fn read(p: &ParamSet) -> Result<Option<(DualHairParams, Vec2)>> {
         (Some("paper"), _) | (None, Variant::Paper) => InternalFresnel::Paper,
         _ => InternalFresnel::Pbrt,
     };
+    // The paper's model (and its artistic control s_diff) is the logistic.
     let diffraction = match diffraction.as_deref() {
         Some("spectral") => Diffraction::Spectral,
-        _ => Diffraction::Logistic,
+        Some("closedform") => Diffraction::ClosedForm,
+        Some(_) => Diffraction::Logistic,
+        None if s_diff.is_some() || variant == Variant::Paper => Diffraction::Logistic,
+        None => Diffraction::ClosedForm,
     };
     let s_diff = match s_diff {
         None => None,
-        Some((_, loc)) if diffraction == Diffraction::Spectral => {
+        Some((_, loc)) if diffraction != Diffraction::Logistic => {
             return scene_error(
-                "\"s_diff\" is the logistic lobe's scale: it has no meaning with \"diffraction\" \"spectral\"",
+                "\"s_diff\" is the logistic lobe's scale: it has no meaning with \"diffraction\" \"closedform\" or \"spectral\"",
                 &loc,
             )
         }

@@ -11,7 +11,7 @@
 
 use crate::bxdfs::dual_hair::DualHairParams;
 use crate::bxdfs::hair::{trimmed_logistic, wrap_angle, HairBxDF, HairLobes};
-use crate::bxdfs::hair_diffraction::{spectral_integral, Diffraction};
+use crate::bxdfs::hair_diffraction::{spectral_integral, ClosedFormLobe, Diffraction};
 use crate::bxdfs::hair_ellipse::{h_averaged_row, Ellipse, InternalFresnel, Optics, Variant};
 use crate::spectrum::{cie_x, cie_y, cie_z};
 use std::f32::consts::PI;
@@ -20,6 +20,7 @@ use std::path::PathBuf;
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum DiffractionArg {
+    Closedform,
     Logistic,
     Spectral,
 }
@@ -70,7 +71,8 @@ pub struct BcsdfArgs {
     /// one fitted to the fibre's width.
     #[arg(long)]
     pub s_diff: Option<f32>,
-    #[arg(long, value_enum, default_value = "logistic")]
+    /// N_diff, as the material's `diffraction`.
+    #[arg(long, value_enum, default_value = "closedform")]
     pub diffraction: DiffractionArg,
     #[arg(long, value_enum, default_value = "exact")]
     pub variant: VariantArg,
@@ -120,6 +122,7 @@ impl BcsdfArgs {
             mean_radius_um: 0.5 * (a + b),
             d_diff: self.d_diff,
             diffraction: match self.diffraction {
+                DiffractionArg::Closedform => Diffraction::ClosedForm,
                 DiffractionArg::Logistic => Diffraction::Logistic,
                 DiffractionArg::Spectral => Diffraction::Spectral,
             },
@@ -183,6 +186,7 @@ pub fn maps(args: &BcsdfArgs) -> Result<Maps, String> {
             let diffraction = if diff_w > 0.0 {
                 diff_w
                     * match params.diffraction {
+                        Diffraction::ClosedForm => ClosedFormLobe::new(d_um).density(delta),
                         Diffraction::Logistic => {
                             trimmed_logistic(delta, params.logistic_scale(d_um), -PI, PI)
                         }

@@ -146,7 +146,7 @@ pub const FIGURES: &[Figure] = &[
         title: "Fig. 10: the azimuthal scattering function N(φi, φr) per lobe (a 37.5, b 25 µm, θi 0, s 0.01, melanin 0)",
         claim: "The dual model's lobes closely match a full ray-tracing simulation and add the diffraction lobe.",
         work: Work::Plot {
-            bcsdf_args: &["--ellipse-a", "37.5", "--ellipse-b", "25", "--logistic-scale", "0.01", "--d-diff", "1"],
+            bcsdf_args: &["--ellipse-a", "37.5", "--ellipse-b", "25", "--logistic-scale", "0.01", "--d-diff", "1", "--diffraction", "logistic"],
             caption: "Left to right: N_R, N_TT, N_TRT, N_diff, and the total with √N_diff as in the paper (blue low, yellow high, each scaled alone); φi across, φr up, 0 to 2π. The dual model only: the paper's top row (a ray-tracing simulation) is not reproduced here.",
         },
         regions: &[],
