@@ -99,6 +99,16 @@ fn invalid_dual_hair_parameters_name_their_location() {
             "no meaning with \"diffraction\" \"closedform\" or \"spectral\"",
         ),
         (
+            "Material \"hair\" \"string internal_fresnel\" \"paper\" \"string fresnel\" \"polarized\"",
+            "3:51",
+            "cannot be combined with \"internal_fresnel\" \"paper\"",
+        ),
+        (
+            "Material \"hair\" \"string fresnel\" \"s\"",
+            "3:17",
+            "\"fresnel\" must be one of \"averaged\", \"polarized\"",
+        ),
+        (
             "Material \"hair\" \"float s_diff\" 0",
             "3:17",
             "\"s_diff\" must be positive",
@@ -471,12 +481,32 @@ fn dual_parameters_map_to_the_model() {
     let base = "Material \"hair\" \"float ellipse_a\" 30 \"float ellipse_b\" 20";
     assert_eq!(
         settings(base),
-        (Variant::Exact, InternalFresnel::Pbrt, Diffraction::ClosedForm)
+        (
+            Variant::Exact,
+            InternalFresnel::Pbrt,
+            Diffraction::ClosedForm
+        )
     );
     // The paper's artistic control s_diff is the logistic's scale.
     assert_eq!(
         settings(&format!("{base} \"float s_diff\" 0.02")),
         (Variant::Exact, InternalFresnel::Pbrt, Diffraction::Logistic)
+    );
+    assert_eq!(
+        settings(&format!("{base} \"string fresnel\" \"polarized\"")),
+        (
+            Variant::Exact,
+            InternalFresnel::Polarized,
+            Diffraction::ClosedForm
+        )
+    );
+    assert_eq!(
+        settings(&format!("{base} \"string fresnel\" \"averaged\"")),
+        (
+            Variant::Exact,
+            InternalFresnel::Pbrt,
+            Diffraction::ClosedForm
+        )
     );
     assert_eq!(
         settings(&format!("{base} \"string diffraction\" \"logistic\"")),

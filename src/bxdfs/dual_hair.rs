@@ -723,16 +723,20 @@ mod tests {
     fn sampled_furnace_and_weights() {
         let mut rng = Pcg32Source::new(5);
         for ab in [1.0f32, 1.5, 2.0] {
-            for diffraction in [
-                Diffraction::ClosedForm,
-                Diffraction::Logistic,
-                Diffraction::Spectral,
+            for (diffraction, fresnel) in [
+                (Diffraction::ClosedForm, InternalFresnel::Pbrt),
+                (Diffraction::ClosedForm, InternalFresnel::Polarized),
+                (Diffraction::Logistic, InternalFresnel::Pbrt),
+                (Diffraction::Spectral, InternalFresnel::Pbrt),
             ] {
                 let (mut sum, mut n, mut worst) = (0.0f64, 0usize, 0.0f32);
                 let total = 100_000;
                 for _ in 0..total {
                     let h = -1.0 + 2.0 * rng.next_f32();
-                    let p = params(ab, 0.6, diffraction, Variant::Exact);
+                    let p = DualHairParams {
+                        internal_fresnel: fresnel,
+                        ..params(ab, 0.6, diffraction, Variant::Exact)
+                    };
                     let b = bxdf(h, SampledSpectrum::ZERO, 0.4, 0.4, 2.0, p, 1.3);
                     let wo = sample_uniform_sphere(rng.next_vec2());
                     if let Some(s) = b.sample(wo, rng.next_f32(), rng.next_vec2()) {
@@ -752,7 +756,7 @@ mod tests {
                     }
                 }
                 let mean = sum / total as f64;
-                eprintln!("sampled furnace a/b {ab} {diffraction:?}: {mean:.4} ({n} samples, max weight {worst:.3})");
+                eprintln!("sampled furnace a/b {ab} {diffraction:?} {fresnel:?}: {mean:.4} ({n} samples, max weight {worst:.3})");
                 assert!((0.99..=1.01).contains(&mean), "a/b {ab}: {mean}");
                 assert!(worst < 3.0);
             }

@@ -1,7 +1,7 @@
 //! Fresnel reflectance: the fraction of light a smooth boundary reflects,
 //! for unpolarised light (the average of the s and p polarisations).
 
-use crate::math::safe_sqrt;
+use crate::math::{safe_sqrt, sqr};
 use crate::spectrum::{SampledSpectrum, N_SPECTRUM_SAMPLES};
 
 /// Reflectance of a boundary between two dielectrics. `cos_theta_i` is the
@@ -54,6 +54,24 @@ pub fn fr_dielectric_cosines(cos_outside: f32, cos_inside: f32, eta: f32) -> f32
     } else {
         1.0
     }
+}
+
+/// The two polarisations' reflectances (R_∥, R_⊥) behind
+/// [`fr_dielectric_cosines`] (their mean), with its conventions: both
+/// exactly 1 under total internal reflection (`cos_outside` = 0) and at a
+/// tangent ray. For paths that carry the polarisations apart (the dual
+/// hair model's `fresnel "polarized"`).
+#[inline]
+pub fn fr_dielectric_cosines_polarized(cos_outside: f32, cos_inside: f32, eta: f32) -> (f32, f32) {
+    let den_par = eta * cos_outside + cos_inside;
+    let den_perp = cos_outside + eta * cos_inside;
+    if den_par <= 0.0 || den_perp <= 0.0 {
+        return (1.0, 1.0);
+    }
+    (
+        sqr((eta * cos_outside - cos_inside) / den_par),
+        sqr((cos_outside - eta * cos_inside) / den_perp),
+    )
 }
 
 /// Reflectance of a conductor (or any absorbing medium) with complex index

@@ -12,6 +12,7 @@
 //! | `string diffraction` | `"closedform"` (`"logistic"` with `s_diff` or `variant "paper"`) | `"closedform"` (the ȳ-weighted Fraunhofer pattern in closed form: parabolic core and 1/Δ² tail, sampled exactly), `"logistic"` (N_diff, Eq. 35) or `"spectral"` (exact sinc² per wavelength) |
 //! | `float s_diff` | fitted to the width (κ/D; Eq. 36 with `variant "paper"`) | the logistic N_diff's scale in radians, > 0 (the paper's artistic control); with `"closedform"` or `"spectral"` an error |
 //! | `string variant` | `"exact"` | `"exact"` or `"paper"` (Eq. 7, 22, 36 as printed) |
+//! | `string fresnel` | `"averaged"` | `"averaged"` (the two polarisations' reflectances averaged at each interface, as pbrt-v4) or `"polarized"` (carried apart along each path and averaged at the exit: closer to the exact wave solution, docs/dual-model.md); `"polarized"` takes each interface from its own side, so it cannot be combined with `internal_fresnel "paper"` |
 //! | `string internal_fresnel` | `"pbrt"` (`"paper"` with `variant "paper"`) | inner interfaces' Fresnel: `"pbrt"` (each interface from its own side; pbrt's f0 for a circle) or `"paper"` (Eq. 22/24's f_p = air → hair Fresnel at the internal angle) |
 //!
 //! The reference across the fibre: on a ribbon its normal; on a cylinder
@@ -118,6 +119,7 @@ pub fn read(p: &ParamSet) -> Result<Option<(DualHairParams, Vec2)>> {
     let s_diff = number("s_diff")?;
     let variant = choice("variant", &["exact", "paper"])?;
     let fresnel = choice("internal_fresnel", &["pbrt", "paper"])?;
+    let polarization = choice("fresnel", &["averaged", "polarized"])?;
     if a.is_none()
         && b.is_none()
         && d_diff.is_none()
@@ -126,6 +128,7 @@ pub fn read(p: &ParamSet) -> Result<Option<(DualHairParams, Vec2)>> {
         && s_diff.is_none()
         && variant.is_none()
         && fresnel.is_none()
+        && polarization.is_none()
     {
         return Ok(None);
     }
@@ -164,8 +167,15 @@ pub fn read(p: &ParamSet) -> Result<Option<(DualHairParams, Vec2)>> {
         Some("paper") => Variant::Paper,
         _ => Variant::Exact,
     };
-    let internal_fresnel = match (fresnel.as_deref(), variant) {
-        (Some("paper"), _) | (None, Variant::Paper) => InternalFresnel::Paper,
+    let internal_fresnel = match (fresnel.as_deref(), variant, polarization.as_deref()) {
+        (_, _, Some("polarized")) => match (fresnel.as_deref(), p.find("fresnel", &[ParamType::String])?) {
+            (Some("paper"), Some(param)) => return scene_error(
+                "\"fresnel\" \"polarized\" takes each interface's Fresnel from its own side: it cannot be combined with \"internal_fresnel\" \"paper\"",
+                &param.location,
+            ),
+            _ => InternalFresnel::Polarized,
+        },
+        (Some("paper"), _, _) | (None, Variant::Paper, _) => InternalFresnel::Paper,
         _ => InternalFresnel::Pbrt,
     };
     // The paper's model (and its artistic control s_diff) is the logistic.

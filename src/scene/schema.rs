@@ -303,6 +303,7 @@ fn slots(category: Category, kind: &str) -> Option<[&'static [Slot]; 3]> {
             ("diffraction", S),
             ("variant", S),
             ("internal_fresnel", S),
+            ("fresnel", S),
         ],
         (Material, "measured") => &[("filename", S)],
         (Material, "mix") => &[("materials", S), ("amount", FT)],

@@ -32,6 +32,12 @@ pub enum VariantArg {
 }
 
 #[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum FresnelArg {
+    Averaged,
+    Polarized,
+}
+
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
 pub enum InternalFresnelArg {
     Pbrt,
     Paper,
@@ -65,8 +71,10 @@ pub struct BcsdfArgs {
     pub eumelanin: f32,
     #[arg(long, default_value_t = 0.0)]
     pub pheomelanin: f32,
-    #[arg(long, default_value_t = 0.0)]
-    pub d_diff: f32,
+    /// Outer (diffracting) cylinder thickness relative to the fibre
+    /// (default 0; 1 with `--compare-mie`).
+    #[arg(long)]
+    pub d_diff: Option<f32>,
     /// The diffraction lobe's logistic scale (radians), in place of the
     /// one fitted to the fibre's width.
     #[arg(long)]
@@ -82,6 +90,11 @@ pub struct BcsdfArgs {
     /// a = b, `pbrt` against `paper` is the paper's Fig. 4 comparison.
     #[arg(long, value_enum)]
     pub internal_fresnel: Option<InternalFresnelArg>,
+    /// `polarized` carries the two polarisations apart along each path, as
+    /// the material's `fresnel "polarized"` (not with `--internal-fresnel
+    /// paper`).
+    #[arg(long, value_enum, default_value = "averaged")]
+    pub fresnel: FresnelArg,
     /// Grid size N.
     #[arg(long, default_value_t = 180)]
     pub resolution: usize,
@@ -93,6 +106,32 @@ pub struct BcsdfArgs {
     /// CIE channel (x̄, ȳ, z̄) beside the fitted logistic, at φ_i = 50°.
     #[arg(long)]
     pub spectral_plot: bool,
+    /// Instead of the maps: the model for a circular fibre against the
+    /// exact Lorenz–Mie solution (`rpbrt mie`), a table of figures per
+    /// diameter and model (and with `--out`, plots); the ray lobes'
+    /// logistic scale defaults to 0.01 there.
+    #[arg(long)]
+    pub compare_mie: bool,
+    /// With `--compare-mie`: fibre diameters, µm.
+    #[arg(long, value_delimiter = ',', default_value = "50,75,100")]
+    pub diameters: Vec<f32>,
+    /// With `--compare-mie`: the models compared, each `logistic`,
+    /// `closedform` or `spectral`, optionally `+polarized`.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "logistic,closedform,spectral"
+    )]
+    pub models: Vec<String>,
+    /// With `--compare-mie`: the absorption index κ (complex index η + iκ).
+    #[arg(long, default_value_t = 0.0)]
+    pub kappa: f32,
+    /// With `--compare-mie`: scattering angles on the circle.
+    #[arg(long, default_value_t = 1 << 16)]
+    pub angles: usize,
+    /// With `--compare-mie`: a folder for the table and the plots.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
 }
 
 /// Map columns, in CSV order after φ_i, φ_r.
@@ -110,8 +149,9 @@ impl BcsdfArgs {
         if !(a.is_finite() && b.is_finite() && b > 0.0 && a >= b) {
             return Err(format!("need finite a ≥ b > 0 (got a = {a}, b = {b})"));
         }
-        if !(0.0..=1.0).contains(&self.d_diff) {
-            return Err(format!("--d-diff must be in [0, 1], not {}", self.d_diff));
+        let d_diff = self.d_diff.unwrap_or(0.0);
+        if !(0.0..=1.0).contains(&d_diff) {
+            return Err(format!("--d-diff must be in [0, 1], not {d_diff}"));
         }
         let variant = match self.variant {
             VariantArg::Exact => Variant::Exact,
@@ -120,7 +160,7 @@ impl BcsdfArgs {
         Ok(DualHairParams {
             ellipse: Ellipse::new(a, b),
             mean_radius_um: 0.5 * (a + b),
-            d_diff: self.d_diff,
+            d_diff,
             diffraction: match self.diffraction {
                 DiffractionArg::Closedform => Diffraction::ClosedForm,
                 DiffractionArg::Logistic => Diffraction::Logistic,
@@ -128,11 +168,18 @@ impl BcsdfArgs {
             },
             s_diff: self.s_diff,
             variant,
-            internal_fresnel: match (self.internal_fresnel, variant) {
-                (Some(InternalFresnelArg::Pbrt), _) | (None, Variant::Exact) => {
+            internal_fresnel: match (self.internal_fresnel, variant, self.fresnel) {
+                (Some(InternalFresnelArg::Paper), _, FresnelArg::Polarized) => {
+                    return Err(
+                        "--fresnel polarized cannot be combined with --internal-fresnel paper"
+                            .into(),
+                    )
+                }
+                (_, _, FresnelArg::Polarized) => InternalFresnel::Polarized,
+                (Some(InternalFresnelArg::Pbrt), _, _) | (None, Variant::Exact, _) => {
                     InternalFresnel::Pbrt
                 }
-                (Some(InternalFresnelArg::Paper), _) | (None, Variant::Paper) => {
+                (Some(InternalFresnelArg::Paper), _, _) | (None, Variant::Paper, _) => {
                     InternalFresnel::Paper
                 }
             },
@@ -327,6 +374,9 @@ fn srgb_matching(lambda: f32) -> glam::Vec3 {
 pub fn run(args: &BcsdfArgs) -> Result<(), String> {
     if args.spectral_plot {
         return spectral_plot(args);
+    }
+    if args.compare_mie {
+        return super::mie_compare::run(args);
     }
     let m = maps(args)?;
     if let Some(path) = &args.csv {

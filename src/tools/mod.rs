@@ -13,6 +13,7 @@ pub mod heat_map;
 pub mod imgdiff;
 pub mod imgtool;
 pub mod mie;
+pub mod mie_compare;
 pub mod peak_memory;
 pub mod plot;
 pub mod render_scene;
