@@ -104,6 +104,16 @@ fn invalid_dual_hair_parameters_name_their_location() {
             "cannot be combined with \"internal_fresnel\" \"paper\"",
         ),
         (
+            "Material \"hair\" \"string variant\" \"paper\" \"string residual\" \"trrt\"",
+            "3:42",
+            "the paper's variant has none",
+        ),
+        (
+            "Material \"hair\" \"string residual\" \"p3\"",
+            "3:17",
+            "\"residual\" must be one of \"uniform\", \"trrt\"",
+        ),
+        (
             "Material \"hair\" \"string fresnel\" \"s\"",
             "3:17",
             "\"fresnel\" must be one of \"averaged\", \"polarized\"",
@@ -499,6 +509,19 @@ fn dual_parameters_map_to_the_model() {
             InternalFresnel::Polarized,
             Diffraction::ClosedForm
         )
+    );
+    let residual = |material: &str| {
+        built(&format!("{material}\n{CURVE}"))
+            .materials
+            .iter()
+            .find_map(|m| m.dual_hair())
+            .map(|p| p.residual)
+    };
+    use rpbrt::bxdfs::hair_ellipse::Residual;
+    assert_eq!(residual(base), Some(Residual::Uniform));
+    assert_eq!(
+        residual(&format!("{base} \"string residual\" \"trrt\"")),
+        Some(Residual::Trrt)
     );
     assert_eq!(
         settings(&format!("{base} \"string fresnel\" \"averaged\"")),

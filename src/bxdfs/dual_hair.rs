@@ -32,7 +32,9 @@ use super::hair_diffraction::{
     eq36_scale, fitted_scale, sample_spectral, spectral_density, spectral_pdf, ClosedFormLobe,
     Diffraction,
 };
-use super::hair_ellipse::{Attenuation, Ellipse, InternalFresnel, Optics, Variant, LOBES};
+use super::hair_ellipse::{
+    Attenuation, Ellipse, InternalFresnel, Optics, Residual, Variant, LOBES,
+};
 use crate::math::fast_atan2::fast_atan2;
 use crate::math::{safe_sqrt, sqr};
 use crate::spectrum::{SampledSpectrum, N_SPECTRUM_SAMPLES};
@@ -55,6 +57,8 @@ pub struct DualHairParams {
     pub s_diff: Option<f32>,
     pub variant: Variant,
     pub internal_fresnel: InternalFresnel,
+    /// How the light leaving after TRT spreads in azimuth.
+    pub residual: Residual,
 }
 
 impl DualHairParams {
@@ -68,6 +72,7 @@ impl DualHairParams {
             s_diff: None,
             variant: Variant::Exact,
             internal_fresnel: InternalFresnel::Pbrt,
+            residual: Residual::Uniform,
         }
     }
 
@@ -137,6 +142,8 @@ enum Hit {
         phi: [f32; LOBES],
         a: [SampledSpectrum; LOBES + 1],
         pdf: [f32; P_MAX + 1],
+        /// With [`Residual::Trrt`]: TRRT's lobe inside the residual.
+        trrt: Option<TrrtLobe>,
     },
     /// Through the diffracting ring: the fibre's projected width in µm,
     /// ω_o's azimuth (the lobe's centre is opposite it) and N_diff for
@@ -155,6 +162,16 @@ enum RingLobe {
     ClosedForm(ClosedFormLobe),
     Logistic(TrimmedLogistic),
     Spectral,
+}
+
+/// TRRT as a lobe of the residual ([`Residual::Trrt`]): its exit azimuth,
+/// its part of A_3 (the residual keeps the rest, uniform in azimuth) and
+/// its share of the residual's sampling probability.
+#[derive(Clone, Copy, Debug, PartialEq)]
+struct TrrtLobe {
+    phi: f32,
+    a: SampledSpectrum,
+    share: f32,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -237,15 +254,25 @@ impl DualHairBxDF {
                 axis,
                 -h,
                 &optics,
-                self.params.variant,
-                self.params.internal_fresnel,
+                (
+                    self.params.variant,
+                    self.params.internal_fresnel,
+                    self.params.residual,
+                ),
                 |k, exit| a.add(k, &exit),
             );
+            let trrt_a = a.trrt();
             let a = a.finish(&end);
+            let trrt = end.phi_trrt.map(|phi| TrrtLobe {
+                phi,
+                a: trrt_a,
+                share: (trrt_a.average() / a[LOBES].average()).clamp(0.0, 1.0),
+            });
             Hit::Fibre {
                 phi: end.phi,
                 pdf: Self::lobe_pdf(&a),
                 a,
+                trrt,
             }
         } else {
             let phi_o = fast_atan2(wo.z, wo.y);
@@ -331,7 +358,7 @@ impl DualHairBxDF {
         phi_i: f32,
     ) -> (SampledSpectrum, f32) {
         match &l.hit {
-            Hit::Fibre { phi, a, pdf } => {
+            Hit::Fibre { phi, a, pdf, trrt } => {
                 let mut f = SampledSpectrum::ZERO;
                 let mut density = 0.0;
                 for p in 0..LOBES {
@@ -341,9 +368,19 @@ impl DualHairBxDF {
                     f += a[p] * (m * n);
                     density += pdf[p] * (m * n);
                 }
-                let m = self.m_residual(l, sin_theta_i, cos_theta_i) / (2.0 * PI);
-                f += a[LOBES] * m;
-                density += pdf[LOBES] * m;
+                let m = self.m_residual(l, sin_theta_i, cos_theta_i);
+                match trrt {
+                    None => {
+                        f += a[LOBES] * (m / (2.0 * PI));
+                        density += pdf[LOBES] * (m / (2.0 * PI));
+                    }
+                    Some(t) => {
+                        let n = self.base.azimuthal_logistic(abs_wrapped(phi_i - t.phi));
+                        let rest = (a[LOBES] - t.a).clamp_zero();
+                        f += t.a * (m * n) + rest * (m / (2.0 * PI));
+                        density += pdf[LOBES] * m * (t.share * n + (1.0 - t.share) / (2.0 * PI));
+                    }
+                }
                 (f, density)
             }
             Hit::Ring { d_um, phi_o, lobe } => {
@@ -382,7 +419,7 @@ impl DualHairBxDF {
     pub fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<HairSample> {
         let l = self.local_for(wo);
         let (sin_theta_i, cos_theta_i, phi_i) = match &l.hit {
-            Hit::Fibre { phi, pdf, .. } => {
+            Hit::Fibre { phi, pdf, trrt, .. } => {
                 if pdf.iter().all(|&p| p <= 0.0) {
                     return None;
                 }
@@ -393,14 +430,21 @@ impl DualHairBxDF {
                     (l.sin_theta_o, l.cos_theta_o)
                 };
                 let (s, c) = sample_longitudinal(u, self.base.m(p).v, sin_o, cos_o);
-                let phi_i = if p < LOBES {
-                    phi[p] + self.base.sample_azimuthal_logistic(uc)
-                } else {
+                let phi_i = match trrt {
+                    _ if p < LOBES => phi[p] + self.base.sample_azimuthal_logistic(uc),
+                    // TRRT's lobe, picked by its share of the residual.
+                    Some(t) if uc < t.share => {
+                        t.phi + self.base.sample_azimuthal_logistic(uc / t.share)
+                    }
                     // The residual's azimuth is uniform (ω_o's azimuth as
                     // the origin, as pbrt's), wrapped so that φ_i stays in
                     // [−2π, 2π], as after a lobe's sample (`abs_wrapped`'s
                     // range).
-                    wrap_angle(fast_atan2(wo.z, wo.y) + 2.0 * PI * uc)
+                    Some(t) => {
+                        let u = ((uc - t.share) / (1.0 - t.share)).clamp(0.0, 1.0);
+                        wrap_angle(fast_atan2(wo.z, wo.y) + 2.0 * PI * u)
+                    }
+                    None => wrap_angle(fast_atan2(wo.z, wo.y) + 2.0 * PI * uc),
                 };
                 (s, c, phi_i)
             }
@@ -513,6 +557,7 @@ mod tests {
             s_diff: None,
             variant,
             internal_fresnel: fresnel,
+            residual: Residual::Uniform,
         }
     }
 
@@ -723,11 +768,32 @@ mod tests {
     fn sampled_furnace_and_weights() {
         let mut rng = Pcg32Source::new(5);
         for ab in [1.0f32, 1.5, 2.0] {
-            for (diffraction, fresnel) in [
-                (Diffraction::ClosedForm, InternalFresnel::Pbrt),
-                (Diffraction::ClosedForm, InternalFresnel::Polarized),
-                (Diffraction::Logistic, InternalFresnel::Pbrt),
-                (Diffraction::Spectral, InternalFresnel::Pbrt),
+            for (diffraction, fresnel, residual) in [
+                (
+                    Diffraction::ClosedForm,
+                    InternalFresnel::Pbrt,
+                    Residual::Uniform,
+                ),
+                (
+                    Diffraction::ClosedForm,
+                    InternalFresnel::Polarized,
+                    Residual::Uniform,
+                ),
+                (
+                    Diffraction::ClosedForm,
+                    InternalFresnel::Polarized,
+                    Residual::Trrt,
+                ),
+                (
+                    Diffraction::Logistic,
+                    InternalFresnel::Pbrt,
+                    Residual::Uniform,
+                ),
+                (
+                    Diffraction::Spectral,
+                    InternalFresnel::Pbrt,
+                    Residual::Uniform,
+                ),
             ] {
                 let (mut sum, mut n, mut worst) = (0.0f64, 0usize, 0.0f32);
                 let total = 100_000;
@@ -735,6 +801,7 @@ mod tests {
                     let h = -1.0 + 2.0 * rng.next_f32();
                     let p = DualHairParams {
                         internal_fresnel: fresnel,
+                        residual,
                         ..params(ab, 0.6, diffraction, Variant::Exact)
                     };
                     let b = bxdf(h, SampledSpectrum::ZERO, 0.4, 0.4, 2.0, p, 1.3);
@@ -756,7 +823,7 @@ mod tests {
                     }
                 }
                 let mean = sum / total as f64;
-                eprintln!("sampled furnace a/b {ab} {diffraction:?} {fresnel:?}: {mean:.4} ({n} samples, max weight {worst:.3})");
+                eprintln!("sampled furnace a/b {ab} {diffraction:?} {fresnel:?} {residual:?}: {mean:.4} ({n} samples, max weight {worst:.3})");
                 assert!((0.99..=1.01).contains(&mean), "a/b {ab}: {mean}");
                 assert!(worst < 3.0);
             }
@@ -978,27 +1045,38 @@ mod tests {
     #[test]
     fn chi_square_elliptical() {
         let mut rng = Pcg32Source::new(17);
-        for (ab, h, axis) in [
-            (1.5f32, 0.3f32, 0.4f32),
-            (2.0, -0.8, 2.0),
-            (1.25, 0.95, -1.0),
+        // The last two: the polarised trace with TRRT as its own lobe (a
+        // clear fibre, so TRRT and the residual carry weight).
+        for (ab, h, axis, ray_options) in [
+            (1.5f32, 0.3f32, 0.4f32, None),
+            (2.0, -0.8, 2.0, None),
+            (1.25, 0.95, -1.0, None),
+            (
+                1.0,
+                0.6,
+                0.0,
+                Some((InternalFresnel::Polarized, Residual::Trrt)),
+            ),
+            (
+                1.5,
+                -0.4,
+                0.7,
+                Some((InternalFresnel::Polarized, Residual::Trrt)),
+            ),
         ] {
-            let p = params(ab, 0.0, Diffraction::Logistic, Variant::Exact);
-            let b = bxdf(
-                h,
-                SampledSpectrum([0.3, 0.5, 0.8, 1.2]),
-                0.3,
-                0.4,
-                2.0,
-                p,
-                axis,
-            );
+            let mut p = params(ab, 0.0, Diffraction::Logistic, Variant::Exact);
+            let mut sigma_a = SampledSpectrum([0.3, 0.5, 0.8, 1.2]);
+            if let Some((fresnel, residual)) = ray_options {
+                (p.internal_fresnel, p.residual) = (fresnel, residual);
+                sigma_a = SampledSpectrum::splat(0.05);
+            }
+            let b = bxdf(h, sigma_a, 0.3, 0.4, 2.0, p, axis);
             let wos = [
                 Vec3::new(0.3, 0.5, 0.81).normalize(),
                 Vec3::new(-0.6, -0.2, 0.3).normalize(),
             ];
             assert_chi2_passes(
-                &format!("ellipse a/b {ab} h {h}"),
+                &format!("ellipse a/b {ab} h {h} {ray_options:?}"),
                 &tilted_bsdf(BxDF::DualHair(b)),
                 &wos,
                 &mut rng,

@@ -95,6 +95,16 @@ pub enum InternalFresnel {
     Polarized,
 }
 
+/// How the light leaving after TRT (p ≥ 3) is spread in azimuth.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Residual {
+    /// pbrt-v4's residual: uniform in azimuth.
+    Uniform,
+    /// TRRT (p = 3) as a lobe of its own about its traced exit azimuth
+    /// (the secondary rainbow's caustic), the rest (p ≥ 4) uniform.
+    Trrt,
+}
+
 /// An elliptical cross-section, semi-axes in units of the mean semi-axis.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ellipse {
@@ -165,6 +175,8 @@ pub struct TraceEnd {
     pub tail_chord: f32,
     /// Whether later orders are kept (the exact variant's residual lobe).
     pub residual: bool,
+    /// TRRT's exit azimuth when it was traced as a lobe ([`Residual::Trrt`]).
+    pub phi_trrt: Option<f32>,
 }
 
 /// The traced path for one (φ_in, h).
@@ -288,7 +300,35 @@ impl Ellipse {
         variant: Variant,
         fresnel: InternalFresnel,
     ) -> Trace {
-        self.trace_while(phi_in, h, optics, (variant, fresnel), TRAPPED_POWER)
+        self.trace_while(
+            phi_in,
+            h,
+            optics,
+            (variant, fresnel),
+            Residual::Uniform,
+            TRAPPED_POWER,
+        )
+    }
+
+    /// [`Ellipse::trace`] with the residual's layout chosen: with
+    /// [`Residual::Trrt`] (exact variant) TRRT is always traced and its exit
+    /// azimuth kept.
+    pub fn trace_with_residual(
+        &self,
+        phi_in: f32,
+        h: f32,
+        optics: &Optics,
+        (variant, fresnel): (Variant, InternalFresnel),
+        residual: Residual,
+    ) -> Trace {
+        self.trace_while(
+            phi_in,
+            h,
+            optics,
+            (variant, fresnel),
+            residual,
+            TRAPPED_POWER,
+        )
     }
 
     /// [`Ellipse::trace`], tracing past [`TRACED_EXITS`] while more than
@@ -299,6 +339,7 @@ impl Ellipse {
         h: f32,
         optics: &Optics,
         model: (Variant, InternalFresnel),
+        residual: Residual,
         trapped_power: f32,
     ) -> Trace {
         let (sin_phi, cos_phi) = (phi_in as f64).sin_cos();
@@ -308,7 +349,7 @@ impl Ellipse {
             (toward_in, DVec2::X),
             h,
             optics,
-            model,
+            (model.0, model.1, residual),
             (trapped_power, -1.0),
             |k, e| {
                 exits[k] = e;
@@ -336,15 +377,14 @@ impl Ellipse {
         turn: DVec2,
         h: f32,
         optics: &Optics,
-        variant: Variant,
-        fresnel: InternalFresnel,
+        (variant, fresnel, residual): (Variant, InternalFresnel, Residual),
         on_exit: impl FnMut(usize, Exit) -> f32,
     ) -> TraceEnd {
         self.trace_exits(
             (toward_in, turn),
             h,
             optics,
-            (variant, fresnel),
+            (variant, fresnel, residual),
             (TRAPPED_POWER, ABSORBED_POWER),
             on_exit,
         )
@@ -357,7 +397,7 @@ impl Ellipse {
         (u, turn): (DVec2, DVec2),
         h: f32,
         optics: &Optics,
-        (variant, fresnel): (Variant, InternalFresnel),
+        (variant, fresnel, residual_layout): (Variant, InternalFresnel, Residual),
         (trapped_power, absorbed_power): (f32, f32),
         mut on_exit: impl FnMut(usize, Exit) -> f32,
     ) -> TraceEnd {
@@ -416,9 +456,12 @@ impl Ellipse {
             (0.0, 0.0)
         };
         let residual = variant == Variant::Exact;
-        // The lobes' exit directions (turned), their azimuths taken at once
-        // after the loop.
-        let mut lobe_directions = [DVec2::X; LOBES];
+        // TRRT is traced (and its direction kept) as a lobe of its own.
+        let trrt = residual && residual_layout == Residual::Trrt;
+        let traced_exits = if trrt { LOBES + 1 } else { TRACED_EXITS };
+        // The lobes' exit directions (turned; TRRT's last), their azimuths
+        // taken at once after the loop.
+        let mut lobe_directions = [DVec2::X; LOBES + 1];
         lobe_directions[0] = turn.rotate(r);
         on_exit(
             0,
@@ -437,7 +480,7 @@ impl Ellipse {
         let (mut tail_escape, mut tail_chord) = (0.0, 0.0);
         let mut count = MAX_EXITS;
         for k in 1..MAX_EXITS {
-            if k >= TRACED_EXITS
+            if k >= traced_exits
                 && (!residual || inside <= trapped_power || inside * kept <= absorbed_power)
             {
                 count = k;
@@ -504,7 +547,7 @@ impl Ellipse {
             // Only the explicit lobes need a direction: the refracted ray
             // η' d + (cos_out − η' cos_int) n̂ with n̂ = m/|m| and
             // cos_int = d·m/|m| (the reflected one under TIR).
-            if k < LOBES {
+            if k < LOBES || (trrt && k == LOBES) {
                 let out = eta_p * d + (cos_out * inv_mm.sqrt() - eta_p * dm * inv_mm) * m;
                 let chosen = DVec2::select(glam::BVec2::splat(tir), reflected, out);
                 lobe_directions[k] = turn.rotate(chosen);
@@ -524,8 +567,10 @@ impl Ellipse {
             d = reflected;
         }
         let later = (count - TAIL_FROM) as f32;
+        let [r, tt, trt, trrt_phi] = azimuths(lobe_directions);
         TraceEnd {
-            phi: azimuths(lobe_directions),
+            phi: [r, tt, trt],
+            phi_trrt: (trrt && count > LOBES).then_some(trrt_phi),
             count,
             remaining: inside,
             tail_escape: tail_escape / later,
@@ -535,17 +580,18 @@ impl Ellipse {
     }
 }
 
-/// The azimuths of the lobes' unit exit directions, in f32 (what the lobes
-/// keep): the polynomial atan2 on the rounded components, within 3·10⁻⁷
-/// rad (a few f32 roundings of the angle), the three in one four-lane call.
+/// The azimuths of the lobes' unit exit directions (R, TT, TRT, and TRRT
+/// or the unused +x), in f32 (what the lobes keep): the polynomial atan2 on
+/// the rounded components, within 3·10⁻⁷ rad (a few f32 roundings of the
+/// angle), the four in one four-lane call.
 #[inline]
-fn azimuths(d: [DVec2; LOBES]) -> [f32; LOBES] {
-    let [r, tt, trt] = d.map(|v| v.as_vec2());
+fn azimuths(d: [DVec2; LOBES + 1]) -> [f32; LOBES + 1] {
+    let [r, tt, trt, trrt] = d.map(|v| v.as_vec2());
     let phi = fast_atan2_x4(
-        Vec4::new(r.y, tt.y, trt.y, 0.0),
-        Vec4::new(r.x, tt.x, trt.x, 1.0),
+        Vec4::new(r.y, tt.y, trt.y, trrt.y),
+        Vec4::new(r.x, tt.x, trt.x, trrt.x),
     );
-    [phi.x, phi.y, phi.z]
+    [phi.x, phi.y, phi.z, phi.w]
 }
 
 impl Trace {
@@ -556,11 +602,22 @@ impl Trace {
         sigma_a: SampledSpectrum,
         cos_theta_t: f32,
     ) -> [SampledSpectrum; LOBES + 1] {
+        self.attenuations_and_trrt(sigma_a, cos_theta_t).0
+    }
+
+    /// [`Trace::attenuations`] and TRRT's part of the residual
+    /// ([`Attenuation::trrt`]).
+    pub fn attenuations_and_trrt(
+        &self,
+        sigma_a: SampledSpectrum,
+        cos_theta_t: f32,
+    ) -> ([SampledSpectrum; LOBES + 1], SampledSpectrum) {
         let mut attenuation = Attenuation::new(sigma_a, cos_theta_t, self.end.residual);
         for (k, exit) in self.exits[..self.end.count].iter().enumerate() {
             attenuation.add(k, exit);
         }
-        attenuation.finish(&self.end)
+        let trrt = attenuation.trrt();
+        (attenuation.finish(&self.end), trrt)
     }
 }
 
@@ -579,6 +636,8 @@ pub struct Attenuation {
     previous: (SampledSpectrum, f32),
     /// The path length at the last exit added.
     end_length: f32,
+    /// TRRT's share of the residual (exit 3; [`Residual::Trrt`]).
+    trrt: SampledSpectrum,
 }
 
 impl Attenuation {
@@ -590,7 +649,14 @@ impl Attenuation {
             last: (SampledSpectrum::ONE, 0.0),
             previous: (SampledSpectrum::ONE, 0.0),
             end_length: 0.0,
+            trrt: SampledSpectrum::ZERO,
         }
+    }
+
+    /// What TRRT (exit 3, when traced) passes out: the part of the
+    /// residual that [`Residual::Trrt`] spreads about its own azimuth.
+    pub fn trrt(&self) -> SampledSpectrum {
+        self.trrt
     }
 
     #[inline]
@@ -622,6 +688,9 @@ impl Attenuation {
                 self.a[k] = out;
             } else {
                 self.a[LOBES] += out;
+                if k == LOBES {
+                    self.trrt = out;
+                }
             }
         }
         self.last.0.max_component()
@@ -663,8 +732,9 @@ impl Attenuation {
 /// on the uniform grid φ_out = 2πk/n_out: for lobes R, TT, TRT,
 /// N_p(φ_out) = ½∫_{−1}^{1} A_p(h) L(φ_out − φ_p(h), s) dh by the midpoint
 /// rule over `n_h` offsets (L pbrt's logistic trimmed to [−π, π]), and the
-/// residual A_3/(2π) (its direction is uniform). So ∫ N_p dφ_out is the h
-/// average of A_p. σ_a is grey here.
+/// residual A_3/(2π) (its direction is uniform; with [`Residual::Trrt`]
+/// TRRT's part is a logistic about its exit azimuth instead). So
+/// ∫ N_p dφ_out is the h average of A_p. σ_a is grey here.
 #[allow(clippy::too_many_arguments)]
 pub fn h_averaged_row(
     ellipse: &Ellipse,
@@ -672,8 +742,7 @@ pub fn h_averaged_row(
     optics: &Optics,
     sigma_a: f32,
     s: f32,
-    variant: Variant,
-    fresnel: InternalFresnel,
+    model: (Variant, InternalFresnel, Residual),
     n_h: usize,
     n_out: usize,
 ) -> [Vec<f32>; LOBES + 1] {
@@ -683,16 +752,23 @@ pub fn h_averaged_row(
     let step = 2.0 * PI / n_out as f32;
     // The kernel is below 1e-16 of its peak past 40 s.
     let reach = ((40.0 * s / step).ceil() as i64).min(n_out as i64 / 2);
-    let weight = 1.0 / n_h as f32; // ½ dh with dh = 2/n_h
+    let h_weight = 1.0 / n_h as f32; // ½ dh with dh = 2/n_h
     for i in 0..n_h {
         let h = -1.0 + (2.0 * i as f32 + 1.0) / n_h as f32;
-        let trace = ellipse.trace(phi_in, h, optics, variant, fresnel);
-        let a = trace.attenuations(SampledSpectrum::splat(sigma_a), optics.cos_theta_t);
-        for p in 0..LOBES {
-            if a[p][0] <= 0.0 {
+        let trace = ellipse.trace_with_residual(phi_in, h, optics, (model.0, model.1), model.2);
+        let (a, trrt) =
+            trace.attenuations_and_trrt(SampledSpectrum::splat(sigma_a), optics.cos_theta_t);
+        // The lobes, TRRT's last when it has its own azimuth (it lands in
+        // the residual's row).
+        let trrt_lobe = trace.end.phi_trrt.map(|phi| (phi, trrt[0]));
+        for (p, (center, weight)) in (0..LOBES)
+            .map(|p| (trace.end.phi[p], a[p][0]))
+            .chain(trrt_lobe)
+            .enumerate()
+        {
+            if weight <= 0.0 {
                 continue;
             }
-            let center = trace.end.phi[p];
             let k0 = (center / step).round() as i64;
             let last = if 2 * reach >= n_out as i64 {
                 k0 - reach + n_out as i64 - 1
@@ -702,11 +778,12 @@ pub fn h_averaged_row(
             for k in k0 - reach..=last {
                 let k = k.rem_euclid(n_out as i64) as usize;
                 let x = wrap_angle(k as f32 * step - center);
-                rows[p][k] += weight * a[p][0] * trimmed_logistic(x, s, -PI, PI);
+                rows[p][k] += h_weight * weight * trimmed_logistic(x, s, -PI, PI);
             }
         }
+        let uniform = a[LOBES][0] - trrt_lobe.map_or(0.0, |(_, a3)| a3);
         for v in rows[LOBES].iter_mut() {
-            *v += weight * a[LOBES][0] / (2.0 * PI);
+            *v += h_weight * uniform / (2.0 * PI);
         }
     }
     rows
@@ -791,10 +868,10 @@ mod tests {
                     let toward = DVec2::new((phi as f64).cos(), (phi as f64).sin());
                     for j in 0..=40 {
                         let h = -1.0 + j as f32 * 0.05;
-                        let all = e.trace_while(phi, h, &optics, model, -1.0);
+                        let all = e.trace_while(phi, h, &optics, model, Residual::Uniform, -1.0);
                         total += 1;
                         by_power += usize::from(
-                            e.trace_while(phi, h, &optics, model, TRAPPED_POWER)
+                            e.trace_while(phi, h, &optics, model, Residual::Uniform, TRAPPED_POWER)
                                 .end
                                 .count
                                 > TRACED_EXITS,
@@ -808,8 +885,7 @@ mod tests {
                                 DVec2::X,
                                 h,
                                 &optics,
-                                model.0,
-                                model.1,
+                                (model.0, model.1, Residual::Uniform),
                                 |k, exit| a.add(k, &exit),
                             );
                             by_absorbed[i] += usize::from(end.count > TRACED_EXITS);
@@ -859,7 +935,7 @@ mod tests {
                         let h = -1.0 + j as f32 * 0.05;
                         let run = |power| {
                             let model = (Variant::Exact, InternalFresnel::Pbrt);
-                            e.trace_while(phi, h, &optics, model, power)
+                            e.trace_while(phi, h, &optics, model, Residual::Uniform, power)
                         };
                         let (adaptive, all) = (run(TRAPPED_POWER), run(-1.0));
                         assert_eq!(all.end.count, MAX_EXITS);

@@ -7,7 +7,7 @@
 //! converge fast enough to compare at s = 0.01.
 
 use super::hair::{trimmed_logistic, wrap_angle};
-use super::hair_ellipse::{h_averaged_row, Ellipse, InternalFresnel, Optics, Variant};
+use super::hair_ellipse::{h_averaged_row, Ellipse, InternalFresnel, Optics, Residual, Variant};
 use std::f64::consts::PI;
 
 /// Unpolarised Fresnel reflectance from medium n1 into n2 at incidence
@@ -180,8 +180,7 @@ fn bcsdf_maps_match_the_brute_force_tracer() {
                 &optics,
                 sigma_a as f32,
                 s,
-                Variant::Exact,
-                InternalFresnel::Pbrt,
+                (Variant::Exact, InternalFresnel::Pbrt, Residual::Uniform),
                 6000,
                 n,
             );

@@ -13,6 +13,7 @@
 //! | `float s_diff` | fitted to the width (κ/D; Eq. 36 with `variant "paper"`) | the logistic N_diff's scale in radians, > 0 (the paper's artistic control); with `"closedform"` or `"spectral"` an error |
 //! | `string variant` | `"exact"` | `"exact"` or `"paper"` (Eq. 7, 22, 36 as printed) |
 //! | `string fresnel` | `"averaged"` | `"averaged"` (the two polarisations' reflectances averaged at each interface, as pbrt-v4) or `"polarized"` (carried apart along each path and averaged at the exit: closer to the exact wave solution, docs/dual-model.md); `"polarized"` takes each interface from its own side, so it cannot be combined with `internal_fresnel "paper"` |
+//! | `string residual` | `"uniform"` | the light leaving after TRT: `"uniform"` in azimuth (pbrt-v4's residual) or `"trrt"` (TRRT, p = 3, as a lobe about its own traced exit azimuth, the secondary rainbow; p ≥ 4 uniform); `"trrt"` needs `variant "exact"` (the paper's has no residual) |
 //! | `string internal_fresnel` | `"pbrt"` (`"paper"` with `variant "paper"`) | inner interfaces' Fresnel: `"pbrt"` (each interface from its own side; pbrt's f0 for a circle) or `"paper"` (Eq. 22/24's f_p = air → hair Fresnel at the internal angle) |
 //!
 //! The reference across the fibre: on a ribbon its normal; on a cylinder
@@ -34,7 +35,7 @@
 
 use crate::bxdfs::dual_hair::DualHairParams;
 use crate::bxdfs::hair_diffraction::Diffraction;
-use crate::bxdfs::hair_ellipse::{Ellipse, InternalFresnel, Variant};
+use crate::bxdfs::hair_ellipse::{Ellipse, InternalFresnel, Residual, Variant};
 use crate::error::{scene_error, Result};
 use crate::scene::params::ParamSet;
 use glam::{Vec2, Vec3};
@@ -120,6 +121,7 @@ pub fn read(p: &ParamSet) -> Result<Option<(DualHairParams, Vec2)>> {
     let variant = choice("variant", &["exact", "paper"])?;
     let fresnel = choice("internal_fresnel", &["pbrt", "paper"])?;
     let polarization = choice("fresnel", &["averaged", "polarized"])?;
+    let residual = choice("residual", &["uniform", "trrt"])?;
     if a.is_none()
         && b.is_none()
         && d_diff.is_none()
@@ -129,6 +131,7 @@ pub fn read(p: &ParamSet) -> Result<Option<(DualHairParams, Vec2)>> {
         && variant.is_none()
         && fresnel.is_none()
         && polarization.is_none()
+        && residual.is_none()
     {
         return Ok(None);
     }
@@ -199,6 +202,19 @@ pub fn read(p: &ParamSet) -> Result<Option<(DualHairParams, Vec2)>> {
             return scene_error(format!("\"s_diff\" must be positive, not {s}"), &loc)
         }
     };
+    let residual = match residual.as_deref() {
+        Some("trrt") if variant == Variant::Paper => {
+            return match p.find("residual", &[ParamType::String])? {
+                Some(param) => scene_error(
+                    "\"residual\" \"trrt\" splits the exact variant's residual: the paper's variant has none",
+                    &param.location,
+                ),
+                None => Ok(None),
+            };
+        }
+        Some("trrt") => Residual::Trrt,
+        _ => Residual::Uniform,
+    };
     let params = DualHairParams {
         ellipse,
         mean_radius_um,
@@ -207,6 +223,7 @@ pub fn read(p: &ParamSet) -> Result<Option<(DualHairParams, Vec2)>> {
         s_diff,
         variant,
         internal_fresnel,
+        residual,
     };
     Ok(Some((
         params,

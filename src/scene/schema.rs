@@ -304,6 +304,7 @@ fn slots(category: Category, kind: &str) -> Option<[&'static [Slot]; 3]> {
             ("variant", S),
             ("internal_fresnel", S),
             ("fresnel", S),
+            ("residual", S),
         ],
         (Material, "measured") => &[("filename", S)],
         (Material, "mix") => &[("materials", S), ("amount", FT)],

@@ -23,34 +23,42 @@ use super::mie::spectral::{spectral_average, AngularDensity, SpectralOptions};
 use super::plot::{log_log_plot, Series};
 use crate::bxdfs::hair::trimmed_logistic;
 use crate::bxdfs::hair_diffraction::{spectral_integral, ClosedFormLobe, Diffraction};
-use crate::bxdfs::hair_ellipse::{h_averaged_row, Ellipse, InternalFresnel, Optics, Variant};
+use crate::bxdfs::hair_ellipse::{
+    h_averaged_row, Ellipse, InternalFresnel, Optics, Residual, Variant,
+};
 use crate::spectrum::cie_y;
 use std::f64::consts::PI;
 use std::fmt::Write as _;
 use std::path::Path;
 
-/// One model configuration compared: `DIFFRACTION[+polarized]`.
+/// One model configuration compared: `DIFFRACTION[+polarized][+trrt]`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ModelChoice {
     pub diffraction: Diffraction,
     pub fresnel: InternalFresnel,
+    pub residual: Residual,
     pub name: String,
 }
 
 /// Parses `--models`: names from `logistic`, `closedform`, `spectral`,
-/// each optionally with `+polarized`.
+/// each optionally with `+polarized` and `+trrt`.
 pub fn parse_models(list: &[String]) -> Result<Vec<ModelChoice>, String> {
     list.iter()
         .map(|name| {
-            let (diffraction, polarized) = match name.split_once('+') {
-                Some((d, "polarized")) => (d, true),
-                Some((_, other)) => {
-                    return Err(format!(
-                        "--models: unknown option \"+{other}\" in \"{name}\" (expected +polarized)"
-                    ))
+            let mut parts = name.split('+');
+            let diffraction = parts.next().unwrap_or_default();
+            let (mut polarized, mut trrt) = (false, false);
+            for option in parts {
+                match option {
+                    "polarized" => polarized = true,
+                    "trrt" => trrt = true,
+                    other => {
+                        return Err(format!(
+                            "--models: unknown option \"+{other}\" in \"{name}\" (expected +polarized or +trrt)"
+                        ))
+                    }
                 }
-                None => (name.as_str(), false),
-            };
+            }
             let diffraction = match diffraction {
                 "logistic" => Diffraction::Logistic,
                 "closedform" => Diffraction::ClosedForm,
@@ -67,6 +75,11 @@ pub fn parse_models(list: &[String]) -> Result<Vec<ModelChoice>, String> {
                     InternalFresnel::Polarized
                 } else {
                     InternalFresnel::Pbrt
+                },
+                residual: if trrt {
+                    Residual::Trrt
+                } else {
+                    Residual::Uniform
                 },
                 name: name.clone(),
             })
@@ -86,6 +99,8 @@ pub struct Setup {
     /// The ray lobes' logistic scale s.
     pub ray_scale: f32,
     pub angle_count: usize,
+    /// The exact side's wavelength step, nm.
+    pub wavelength_step_nm: f64,
 }
 
 /// The figures of one density (the exact one, or a model's against it).
@@ -137,6 +152,7 @@ pub fn exact_density(setup: &Setup, diameter_um: f64) -> Result<AngularDensity, 
     let cylinder = Cylinder::new(diameter_um, setup.eta, setup.kappa).map_err(|e| e.to_string())?;
     let options = SpectralOptions {
         angle_count: setup.angle_count,
+        step_nm: setup.wavelength_step_nm,
         ..SpectralOptions::default()
     };
     spectral_average(&cylinder, setup.theta_i_rad, &options, &|| {}).map_err(|e| e.to_string())
@@ -201,8 +217,7 @@ pub fn model_density(
             &optics,
             sigma_a as f32,
             setup.ray_scale,
-            Variant::Exact,
-            model.fresnel,
+            (Variant::Exact, model.fresnel, model.residual),
             MODEL_OFFSETS,
             m,
         );
@@ -373,6 +388,7 @@ pub fn run(args: &BcsdfArgs) -> Result<(), String> {
         d_diff: args.d_diff.unwrap_or(1.0),
         ray_scale: args.logistic_scale.unwrap_or(0.01),
         angle_count: args.angles,
+        wavelength_step_nm: args.wavelength_step as f64,
     };
     if !(0.0..=1.0).contains(&setup.d_diff) {
         return Err(format!("--d-diff must be in [0, 1], not {}", setup.d_diff));
@@ -435,6 +451,7 @@ mod tests {
             d_diff: 1.0,
             ray_scale: 0.01,
             angle_count: 1 << 14,
+            wavelength_step_nm: 1.0,
         };
         let models = parse_models(&["closedform+polarized".to_string()]).unwrap();
         let (density, albedo) = model_density(&setup, &models[0], 75.0);
