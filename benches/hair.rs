@@ -63,6 +63,7 @@ fn make_for(kind: &str, h: f32, wo: Option<Vec3>) -> BxDF {
         s_diff: None,
         variant: Variant::Exact,
         internal_fresnel: InternalFresnel::Pbrt,
+        residual: rpbrt::bxdfs::hair_ellipse::Residual::Uniform,
     };
     let lambda = [430.0, 520.0, 600.0, 680.0];
     match kind {

@@ -151,6 +151,7 @@ fn paper_albedo_over_hits(samples: usize) -> f64 {
         s_diff: None,
         variant: Variant::Paper,
         internal_fresnel: InternalFresnel::Paper,
+        residual: rpbrt::bxdfs::hair_ellipse::Residual::Uniform,
     };
     let uniform_sphere = |u: Vec2| {
         let z = 1.0 - 2.0 * u.x;

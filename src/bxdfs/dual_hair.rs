@@ -82,6 +82,23 @@ impl DualHairParams {
         2.0 * self.ellipse.half_width_for(phi, self.variant) * self.mean_radius_um
     }
 
+    /// The width N_diff's pattern is a function of, in µm, for light at
+    /// longitudinal angle θ (cos θ given) seen from azimuth φ: the
+    /// projected width D times cos θ in the exact variant. Off the normal
+    /// plane the wavenumber across the fibre is k cos θ, so in azimuth the
+    /// pattern is that of a slit D cos θ wide: the exact Lorenz–Mie
+    /// solution's forward peak widens as 1/cos θ (D = 75 µm: FWHM 0.373°,
+    /// 0.430°, 0.743° at θ = 0°, 30°, 60°; docs/dual-model.md). cos θ is
+    /// taken at least 1/4, where the spectral lobe's normalisation still
+    /// holds for the widths the model is made for. The paper's variant
+    /// keeps D (Eq. 36).
+    pub fn diffraction_width_um(&self, phi: f32, cos_theta: f32) -> f32 {
+        match self.variant {
+            Variant::Exact => self.width_um(phi) * cos_theta.max(0.25),
+            Variant::Paper => self.width_um(phi),
+        }
+    }
+
     /// The logistic N_diff's scale for a width in µm: `s_diff` when the
     /// scene sets it, else the fit (exact variant) or Eq. 36 (paper's).
     pub fn logistic_scale(&self, d_um: f32) -> f32 {
@@ -278,7 +295,7 @@ impl DualHairBxDF {
             let phi_o = fast_atan2(wo.z, wo.y);
             let d_um = self
                 .params
-                .width_um(phi_o - fast_atan2(self.axis.y, self.axis.x));
+                .diffraction_width_um(phi_o - fast_atan2(self.axis.y, self.axis.x), cos_theta_o);
             Hit::Ring {
                 d_um,
                 phi_o,

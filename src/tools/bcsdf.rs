@@ -254,7 +254,7 @@ pub fn maps(args: &BcsdfArgs) -> Result<Maps, String> {
             2000,
             n,
         );
-        let d_um = params.width_um(phi_i);
+        let d_um = params.diffraction_width_um(phi_i, optics.cos_theta);
         for (j, &phi_r) in grid.iter().enumerate() {
             let delta = wrap_angle(phi_r - phi_i - PI);
             let diffraction = if diff_w > 0.0 {

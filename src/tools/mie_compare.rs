@@ -170,7 +170,10 @@ pub fn model_density(
     diameter_um: f64,
 ) -> (AngularDensity, f64) {
     let m = setup.angle_count;
-    let d_um = diameter_um as f32;
+    let optics = Optics::new(setup.eta as f32, (setup.theta_i_rad as f32).sin());
+    // N_diff's width as the renderer's (the exact variant's D cos θ).
+    let d_um = crate::bxdfs::dual_hair::DualHairParams::circular(0.5 * diameter_um as f32)
+        .diffraction_width_um(0.0, optics.cos_theta);
     let (ray_weight, diffraction_weight) = (
         1.0 / (1.0 + setup.d_diff as f64),
         setup.d_diff as f64 / (1.0 + setup.d_diff as f64),
@@ -192,7 +195,6 @@ pub fn model_density(
             }) as f64
         })
         .collect();
-    let optics = Optics::new(setup.eta as f32, (setup.theta_i_rad as f32).sin());
     // Without absorption the ray part is the same at every wavelength.
     let wavelengths: Vec<(f64, f64)> = if setup.kappa == 0.0 {
         vec![(555.0, 1.0)]
