@@ -149,8 +149,11 @@ fn hair(c: &mut Criterion) {
                     axis,
                     i.0,
                     &optics,
-                    Variant::Exact,
-                    InternalFresnel::Pbrt,
+                    (
+                        Variant::Exact,
+                        InternalFresnel::Pbrt,
+                        rpbrt::bxdfs::hair_ellipse::Residual::Uniform,
+                    ),
                     |k, exit| {
                         black_box((k, exit));
                         1.0
