@@ -153,12 +153,13 @@ pub struct DualHairBxDF {
 /// Where the camera ray went, and what that means for ω_o.
 #[derive(Clone, Copy, Debug, PartialEq)]
 enum Hit {
-    /// Into the fibre: the lobes' exit azimuths (local frame), A_0…A_3 and
-    /// the lobe-selection probabilities.
+    /// Into the fibre: the lobes' exit azimuths (local frame) and A_0…A_3
+    /// (the lobe-selection probabilities follow from them, [`DualHairBxDF::lobe_pdf`],
+    /// computed where needed: keeping them too took the BxDF past five
+    /// cache lines).
     Fibre {
         phi: [f32; LOBES],
         a: [SampledSpectrum; LOBES + 1],
-        pdf: [f32; P_MAX + 1],
         /// With [`Residual::Trrt`]: TRRT's lobe inside the residual.
         trrt: Option<TrrtLobe>,
     },
@@ -287,7 +288,6 @@ impl DualHairBxDF {
             });
             Hit::Fibre {
                 phi: end.phi,
-                pdf: Self::lobe_pdf(&a),
                 a,
                 trrt,
             }
@@ -375,7 +375,8 @@ impl DualHairBxDF {
         phi_i: f32,
     ) -> (SampledSpectrum, f32) {
         match &l.hit {
-            Hit::Fibre { phi, a, pdf, trrt } => {
+            Hit::Fibre { phi, a, trrt } => {
+                let pdf = Self::lobe_pdf(a);
                 let mut f = SampledSpectrum::ZERO;
                 let mut density = 0.0;
                 for p in 0..LOBES {
@@ -436,11 +437,12 @@ impl DualHairBxDF {
     pub fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<HairSample> {
         let l = self.local_for(wo);
         let (sin_theta_i, cos_theta_i, phi_i) = match &l.hit {
-            Hit::Fibre { phi, pdf, trrt, .. } => {
+            Hit::Fibre { phi, a, trrt } => {
+                let pdf = Self::lobe_pdf(a);
                 if pdf.iter().all(|&p| p <= 0.0) {
                     return None;
                 }
-                let (p, uc) = choose_lobe(pdf, uc);
+                let (p, uc) = choose_lobe(&pdf, uc);
                 let (sin_o, cos_o) = if p < LOBES {
                     l.tilted[p]
                 } else {

@@ -23,7 +23,7 @@ use crate::error::{Error, Result};
 use crate::shapes::cyhair::{self, Basis, Conversion, HairFile, StrandCurves};
 use crate::tools::io_error;
 use flate2::write::GzEncoder;
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::ProgressBar;
 use pbrt_parser::Location;
 use std::fs::File;
 use std::io::{BufWriter, IsTerminal, Write};
@@ -132,18 +132,11 @@ fn convert(hair: &HairFile, conversion: &Conversion, args: &Cyhair2pbrtArgs) -> 
     let temporary = Temporary::beside(output)?;
     let file = File::create(&temporary.path).map_err(io_error(output))?;
     let gzip = output.extension().is_some_and(|e| e == "gz");
-    let bar = if hair.segments.len() >= PROGRESS_FROM && std::io::stderr().is_terminal() {
-        let bar = ProgressBar::new(hair.segments.len() as u64);
-        bar.set_style(
-            ProgressStyle::with_template(
-                "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} strands",
-            )
-            .unwrap_or_else(|_| ProgressStyle::default_bar()),
-        );
-        bar
-    } else {
-        ProgressBar::hidden()
-    };
+    let bar = super::progress_bar(
+        hair.segments.len() as u64,
+        "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} strands",
+        hair.segments.len() >= PROGRESS_FROM && std::io::stderr().is_terminal(),
+    );
     let write_error = |e: std::io::Error| Error::Io {
         path: output.display().to_string(),
         source: e,

@@ -395,7 +395,11 @@ pub fn run(args: &BcsdfArgs) -> Result<(), String> {
     if !(0.0..=1.0).contains(&setup.d_diff) {
         return Err(format!("--d-diff must be in [0, 1], not {}", setup.d_diff));
     }
-    let progress = indicatif::ProgressBar::new(args.diameters.len() as u64);
+    let progress = super::progress_bar(
+        args.diameters.len() as u64,
+        "{bar:30} {pos}/{len} fibres, {elapsed}",
+        std::io::IsTerminal::is_terminal(&std::io::stderr()),
+    );
     let mut comparisons = Vec::new();
     for &d in &args.diameters {
         if !(d.is_finite() && d > 0.0) {

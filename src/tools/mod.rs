@@ -21,6 +21,21 @@ pub mod report;
 pub mod reproduce;
 pub mod steal;
 
+/// A progress bar of `total` steps in indicatif's `template`, or a hidden
+/// one where it would not help (`visible` false: stderr is not a terminal,
+/// or the work is too small to watch).
+pub(crate) fn progress_bar(total: u64, template: &str, visible: bool) -> indicatif::ProgressBar {
+    if !visible {
+        return indicatif::ProgressBar::hidden();
+    }
+    let bar = indicatif::ProgressBar::new(total);
+    bar.set_style(
+        indicatif::ProgressStyle::with_template(template)
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+    );
+    bar
+}
+
 /// Maps an I/O error on `path` to the crate's error, naming the path.
 pub(crate) fn io_error(
     path: &std::path::Path,

@@ -563,18 +563,11 @@ fn write_strands(
     );
     sink.write(&text)?;
 
-    let bar = if plan.count > PROGRESS_ABOVE && std::io::stderr().is_terminal() {
-        let bar = indicatif::ProgressBar::new(plan.count);
-        bar.set_style(
-            indicatif::ProgressStyle::with_template(
-                "{bar:40} {pos}/{len} strands, {elapsed} (eta {eta})",
-            )
-            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-        );
-        bar
-    } else {
-        indicatif::ProgressBar::hidden()
-    };
+    let bar = super::progress_bar(
+        plan.count,
+        "{bar:40} {pos}/{len} strands, {elapsed} (eta {eta})",
+        plan.count > PROGRESS_ABOVE && std::io::stderr().is_terminal(),
+    );
     for i in 0..plan.count {
         let s = grow(plan, 0, i);
         let mut samples = strand::sample(&s, &plan.recipe, plan.segments);

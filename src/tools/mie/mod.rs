@@ -22,7 +22,6 @@ pub use spectral::{
     SpectralOptions, DEFAULT_ANGLE_COUNT,
 };
 
-use indicatif::{ProgressBar, ProgressStyle};
 use std::fmt::Write as _;
 use std::io::IsTerminal as _;
 use std::path::{Path, PathBuf};
@@ -83,16 +82,11 @@ pub fn run(args: &MieArgs) -> Result<(), String> {
                 ..SpectralOptions::default()
             };
             let count = options.wavelengths_nm().map_err(|e| e.to_string())?.len();
-            let bar = if std::io::stderr().is_terminal() {
-                let bar = ProgressBar::new(count as u64);
-                bar.set_style(
-                    ProgressStyle::with_template("{bar:30} {pos}/{len} wavelengths, {elapsed}")
-                        .unwrap_or_else(|_| ProgressStyle::default_bar()),
-                );
-                bar
-            } else {
-                ProgressBar::hidden()
-            };
+            let bar = super::progress_bar(
+                count as u64,
+                "{bar:30} {pos}/{len} wavelengths, {elapsed}",
+                std::io::stderr().is_terminal(),
+            );
             let density = spectral_average(&cylinder, theta_i_rad, &options, &|| bar.inc(1))
                 .map_err(|e| e.to_string())?;
             bar.finish_and_clear();

@@ -33,7 +33,7 @@ pub use figures::{Figure, Model, Work, FIGURES};
 use crate::error::{Error, Result};
 use crate::scene::build::RenderOverrides;
 use crate::tools::io_error;
-use indicatif::{ProgressBar, ProgressStyle};
+use indicatif::ProgressBar;
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
@@ -203,16 +203,11 @@ pub fn run(args: &ReproduceArgs) -> Result<()> {
             Work::Plot { .. } => 1,
         })
         .sum();
-    let bar = if interactive {
-        let bar = ProgressBar::new(panels_total);
-        bar.set_style(
-            ProgressStyle::with_template("{bar:30} {pos}/{len} panels, {elapsed} {msg}")
-                .unwrap_or_else(|_| ProgressStyle::default_bar()),
-        );
-        bar
-    } else {
-        ProgressBar::hidden()
-    };
+    let bar = super::progress_bar(
+        panels_total,
+        "{bar:30} {pos}/{len} panels, {elapsed} {msg}",
+        interactive,
+    );
     let mut results = Vec::new();
     for figure in &selected {
         let result = match &figure.work {
