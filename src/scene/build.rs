@@ -327,11 +327,98 @@ impl BuiltScene {
     }
 }
 
-/// Builds the scene (warnings are collected in the result).
+/// Builds the scene (warnings are collected in the result), phase by
+/// phase as pbrt-v4's `BasicScene`: what the scene is seen through
+/// ([`create_view`]), textures ([`create_textures`]), materials
+/// ([`create_materials`]), shapes with their primitives and area lights
+/// and the scene's own lights ([`create_primitives_and_lights`]), the
+/// accelerator ([`create_aggregate`]), and the lights' preprocessing and
+/// sampler ([`prepare_lights`]).
 pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<BuiltScene> {
     let mut warnings = Vec::new();
     let base = &scene.base_directory;
+    check_supported(scene)?;
 
+    let View {
+        camera,
+        film,
+        sampler,
+        filter,
+    } = create_view(scene, overrides)?;
+    let render_from_world = camera.transform().render_from_world;
+    let mut integrator = integrator_settings(scene)?;
+
+    let textures = create_textures(scene, &render_from_world)?;
+    // Differentials are only worth computing when some texture varies.
+    integrator.texture_filtering &= some_texture_varies(&textures);
+
+    let (materials, named_index) = create_materials(scene, &textures)?;
+    integrator.connect_diffraction &= materials.iter().any(Material::has_diffracting_ring);
+    for (material, entity) in materials
+        .iter()
+        .zip(scene.materials.iter().chain(scene.named_materials.values()))
+    {
+        if let Some(warning) = dual_hair_width_warning(material, entity)? {
+            warnings.push(warning);
+        }
+    }
+    warnings.extend(super::deviations::warnings(
+        scene,
+        &materials,
+        integrator.texture_filtering,
+        base,
+    ));
+
+    let plan = super::instancing::plan(scene, &render_from_world, &mut warnings)?;
+    let context = placed_shapes::Context {
+        scene,
+        render_from_world: &render_from_world,
+        textures: &textures,
+        materials: &materials,
+        named_materials: &named_index,
+        base,
+    };
+    let Primitives {
+        mut shapes,
+        primitives,
+        mut lights,
+        alpha_textures,
+        group_ends,
+        placed_ends,
+    } = create_primitives_and_lights(&plan, &context, &mut warnings)?;
+
+    let Aggregate {
+        bvh,
+        instances,
+        primitives,
+        curve_lookup,
+    } = create_aggregate(primitives, &mut shapes, &group_ends, &placed_ends, &plan)?;
+
+    let (infinite_lights, light_sampler) =
+        prepare_lights(scene, &mut lights, &shapes, &bvh, &instances)?;
+    Ok(BuiltScene {
+        camera,
+        film,
+        sampler,
+        filter,
+        integrator,
+        shapes,
+        primitives,
+        bvh,
+        instances,
+        curve_lookup,
+        materials,
+        lights,
+        infinite_lights,
+        light_sampler,
+        alpha_textures,
+        warnings,
+    })
+}
+
+/// Refuses what the renderer does not support yet: participating media
+/// and an animated camera.
+fn check_supported(scene: &SceneDescription) -> Result<()> {
     if let Some(m) = scene.media.first() {
         return scene_error(
             "participating media are not supported yet",
@@ -344,8 +431,22 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
             &scene.camera.entity.location.0,
         );
     }
+    Ok(())
+}
 
-    // Camera exposure time, film, camera.
+/// What the scene is seen and sampled through: camera, film, sampler and
+/// pixel filter.
+struct View {
+    camera: Camera,
+    film: RgbFilm,
+    sampler: Sampler,
+    filter: Filter,
+}
+
+/// The camera phase: the film (with the command line's crop window or
+/// pixel bounds), the camera (its exposure time from the shutter), the
+/// sampler and the filter.
+fn create_view(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<View> {
     let cam_params = &scene.camera.entity.params;
     let exposure = (cam_params.float("shutterclose", 1.0)?
         - cam_params.float("shutteropen", 0.0)?)
@@ -354,7 +455,7 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
         &scene.film,
         exposure,
         overrides.outfile.clone(),
-        base,
+        &scene.base_directory,
         if overrides.quick {
             4
         } else {
@@ -373,7 +474,6 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
     }
     let camera = Camera::create(&scene.camera, film.full_resolution)?
         .with_pixel_jitter(!scene.options.disable_pixel_jitter);
-    let render_from_world = camera.transform().render_from_world;
 
     let seed = overrides.seed.unwrap_or(scene.options.seed);
     let spp = if overrides.quick {
@@ -383,9 +483,21 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
     };
     let sampler = Sampler::create(&scene.sampler, seed, film.full_resolution, spp)?;
     let filter = Filter::create(&scene.filter)?;
-    let mut integrator = integrator_settings(scene)?;
+    Ok(View {
+        camera,
+        film,
+        sampler,
+        filter,
+    })
+}
 
-    // Textures, in file order (images shared through the cache).
+/// The textures phase (pbrt-v4's `CreateTextures`): in file order, images
+/// shared through the cache; a spectrum texture is made once per
+/// spectrum kind (albedo, unbounded, illuminant).
+fn create_textures(
+    scene: &SceneDescription,
+    render_from_world: &crate::math::Transform,
+) -> Result<NamedTextures> {
     let mut textures = NamedTextures::default();
     for t in &scene.textures {
         let render_from_texture = render_from_world.then(&t.world_from_texture).to_mat4();
@@ -403,7 +515,7 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
                 t.value,
                 &mut textures,
                 render_from_texture,
-                base,
+                &scene.base_directory,
                 kind,
             )?;
             match created {
@@ -417,26 +529,38 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
             }
         }
     }
+    Ok(textures)
+}
 
-    // Differentials are only worth computing when some texture varies.
-    integrator.texture_filtering &= textures
+/// Whether some texture is not a constant (so that lookups with
+/// screen-space differentials can change the image).
+fn some_texture_varies(textures: &NamedTextures) -> bool {
+    textures
         .float
         .values()
         .any(|t| !matches!(t, FloatTexture::Constant(_)))
         || textures
             .spectrum
             .values()
-            .any(|t| !matches!(t, SpectrumTexture::Constant(_)));
+            .any(|t| !matches!(t, SpectrumTexture::Constant(_)))
+}
 
-    // Materials: anonymous ones by index, then named ones.
+/// The materials phase (pbrt-v4's `CreateMaterials`): anonymous materials
+/// by index, then named ones after them (with each name's index), all
+/// made diffuse under `Option "forcediffuse"`.
+fn create_materials<'s>(
+    scene: &'s SceneDescription,
+    textures: &NamedTextures,
+) -> Result<(Vec<Material>, HashMap<&'s str, u32>)> {
+    let base = &scene.base_directory;
     let mut materials = Vec::new();
     for m in &scene.materials {
-        materials.push(Material::create(m, &textures, base)?);
+        materials.push(Material::create(m, textures, base)?);
     }
     let mut named_index = HashMap::new();
     for (name, m) in &scene.named_materials {
         named_index.insert(name.as_str(), materials.len() as u32);
-        materials.push(Material::create(m, &textures, base)?);
+        materials.push(Material::create(m, textures, base)?);
     }
     if scene.options.force_diffuse {
         materials = materials
@@ -444,48 +568,50 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
             .map(Material::forced_diffuse)
             .collect();
     }
-    integrator.connect_diffraction &= materials.iter().any(Material::has_diffracting_ring);
-    for (material, entity) in materials
-        .iter()
-        .zip(scene.materials.iter().chain(scene.named_materials.values()))
-    {
-        if let Some(warning) = dual_hair_width_warning(material, entity)? {
-            warnings.push(warning);
-        }
-    }
-    warnings.extend(super::deviations::warnings(
-        scene,
-        &materials,
-        integrator.texture_filtering,
-        base,
-    ));
+    Ok((materials, named_index))
+}
 
-    // Shapes, their primitives and area lights.
+/// What the primitives phase makes: shapes and their primitives in
+/// placement order (not yet BVH order), every light, and where each
+/// group and each Shape directive's primitives end.
+struct Primitives<'s> {
+    shapes: ShapeStorage,
+    primitives: Vec<Primitive>,
+    lights: Vec<Light>,
+    alpha_textures: Vec<FloatTexture>,
+    /// Where each group (top level, then each instanced object) ends.
+    group_ends: Vec<usize>,
+    /// Where each Shape directive's primitives end, and its location (for
+    /// the bounds check of [`create_aggregate`]).
+    placed_ends: Vec<(usize, &'s pbrt_parser::Location)>,
+}
+
+/// The primitives phase (the shapes half of pbrt-v4's `CreateAggregate`,
+/// with `CreateLights`): the shapes of the instancing plan made in
+/// parallel runs, each with its material, alpha cutout and area light;
+/// the scene's own lights (an environment map's image and sampling
+/// tables) are made while the shapes are, and follow the area lights.
+fn create_primitives_and_lights<'s>(
+    plan: &super::instancing::InstancePlan<'s>,
+    context: &placed_shapes::Context<'s>,
+    warnings: &mut Vec<Warning>,
+) -> Result<Primitives<'s>> {
+    let scene = context.scene;
+    let base = context.base;
     let mut shapes = ShapeStorage::default();
     let mut primitives = Vec::new();
     let mut lights: Vec<Light> = Vec::new();
     let mut alpha_textures = Vec::new();
-    let plan = super::instancing::plan(scene, &render_from_world, &mut warnings)?;
-    // Where each group (top level, then each instanced object) ends, kept
-    // current before and after each shape (an invisible one is skipped).
+    // Kept current before and after each shape (an invisible one is
+    // skipped).
     let mut group_ends = vec![0; plan.object_count + 1];
-    let context = placed_shapes::Context {
-        scene,
-        render_from_world: &render_from_world,
-        textures: &textures,
-        materials: &materials,
-        named_materials: &named_index,
-        base,
-    };
-    // The scene's own lights (an environment map's image and sampling
-    // tables) are made while the shapes are.
     let (runs, scene_lights) = rayon::join(
-        || placed_shapes::create(&plan.placements, &context),
+        || placed_shapes::create(&plan.placements, context),
         || -> Result<Vec<Light>> {
             scene
                 .lights
                 .iter()
-                .map(|light| lights::create_light(light, &render_from_world, base))
+                .map(|light| lights::create_light(light, context.render_from_world, base))
                 .collect()
         },
     );
@@ -512,8 +638,6 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
             };
         }
     };
-    // Where each Shape directive's primitives end, and its location (for
-    // the bounds check below).
     let mut placed_ends = Vec::new();
     for ((placed_shapes, run_warnings, run_error), offsets) in runs.into_iter().zip(offsets) {
         warnings.extend(run_warnings);
@@ -548,12 +672,38 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
         }
     }
     lights.extend(scene_lights?);
+    Ok(Primitives {
+        shapes,
+        primitives,
+        lights,
+        alpha_textures,
+        group_ends,
+        placed_ends,
+    })
+}
 
-    // The BVHs (top level, each instanced object), primitives in their
-    // order, and the instances.
+/// What the accelerator phase makes.
+struct Aggregate {
+    bvh: Bvh,
+    instances: InstanceAccel,
+    /// In BVH order.
+    primitives: Vec<Primitive>,
+    curve_lookup: CurveLookup,
+}
+
+/// The accelerator phase (pbrt-v4's `CreateAggregate`): the BVHs (top
+/// level, each instanced object), the primitives and curve pieces put in
+/// their order, and the instances.
+fn create_aggregate(
+    primitives: Vec<Primitive>,
+    shapes: &mut ShapeStorage,
+    group_ends: &[usize],
+    placed_ends: &[(usize, &pbrt_parser::Location)],
+    plan: &super::instancing::InstancePlan<'_>,
+) -> Result<Aggregate> {
     let bounds: Vec<Bounds3> = primitives
         .par_iter()
-        .map(|p| p.shape.bounds(&shapes))
+        .map(|p| p.shape.bounds(shapes))
         .collect();
     // The BVH builder needs finite boxes (a projective transform or huge
     // coordinates can give infinite or NaN ones; obvhs then indexes out
@@ -580,14 +730,33 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
         .par_iter()
         .map(|&i| primitives[i as usize].clone())
         .collect();
-    let curve_lookup = order_curve_pieces(&mut primitives, &mut shapes);
+    let curve_lookup = order_curve_pieces(&mut primitives, shapes);
     let instances = if plan.instances.is_empty() {
         InstanceAccel::empty()
     } else {
         InstanceAccel::build(objects, &plan.instances)
     };
+    Ok(Aggregate {
+        bvh,
+        instances,
+        primitives,
+        curve_lookup,
+    })
+}
+
+/// The lights phase: each light preprocessed with the scene's bounding
+/// sphere, the infinite lights listed, and the light sampler of the
+/// integrator's `"lightsampler"` made. Returns (infinite lights' indices,
+/// light sampler).
+fn prepare_lights(
+    scene: &SceneDescription,
+    lights: &mut [Light],
+    shapes: &ShapeStorage,
+    bvh: &Bvh,
+    instances: &InstanceAccel,
+) -> Result<(Vec<usize>, LightSampler)> {
     let (center, radius) = bvh.bounds().union(instances.bounds()).bounding_sphere();
-    for l in &mut lights {
+    for l in lights.iter_mut() {
         l.preprocess(center, radius);
     }
     let infinite_lights = lights
@@ -603,8 +772,8 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
         .as_str()
     {
         "uniform" => LightSampler::uniform(lights.len()),
-        "power" => LightSampler::power(&lights, &shapes),
-        "bvh" => LightSampler::bvh(&lights, &shapes),
+        "power" => LightSampler::power(lights, shapes),
+        "bvh" => LightSampler::bvh(lights, shapes),
         other => {
             return scene_error(
                 format!("light sampler \"{other}\" unknown (expected uniform, power or bvh)"),
@@ -612,24 +781,7 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
             )
         }
     };
-    Ok(BuiltScene {
-        camera,
-        film,
-        sampler,
-        filter,
-        integrator,
-        shapes,
-        primitives,
-        bvh,
-        instances,
-        curve_lookup,
-        materials,
-        lights,
-        infinite_lights,
-        light_sampler,
-        alpha_textures,
-        warnings,
-    })
+    Ok((infinite_lights, light_sampler))
 }
 
 /// How a ray's test of primitive `i` finds its curve piece. A BVH leaf's

@@ -19,8 +19,41 @@ use pbrt_parser::{
 use std::collections::{BTreeMap, HashMap, HashSet};
 use std::path::{Path, PathBuf};
 
-/// The `Attribute` targets, in this order in [`GraphicsState::attributes`].
-const ATTRIBUTE_TARGETS: [&str; 5] = ["shape", "light", "material", "medium", "texture"];
+/// What an `Attribute` directive sets defaults for; the index (`as
+/// usize`) of its parameters in [`GraphicsState::attributes`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum AttributeTarget {
+    Shape,
+    Light,
+    Material,
+    Medium,
+    Texture,
+}
+
+impl AttributeTarget {
+    const ALL: [AttributeTarget; 5] = [
+        AttributeTarget::Shape,
+        AttributeTarget::Light,
+        AttributeTarget::Material,
+        AttributeTarget::Medium,
+        AttributeTarget::Texture,
+    ];
+
+    /// The target's name in the `Attribute` directive.
+    fn name(self) -> &'static str {
+        match self {
+            AttributeTarget::Shape => "shape",
+            AttributeTarget::Light => "light",
+            AttributeTarget::Material => "material",
+            AttributeTarget::Medium => "medium",
+            AttributeTarget::Texture => "texture",
+        }
+    }
+
+    fn from_name(name: &str) -> Option<AttributeTarget> {
+        Self::ALL.into_iter().find(|t| t.name() == name)
+    }
+}
 
 #[derive(Clone, Debug)]
 struct GraphicsState {
@@ -33,7 +66,8 @@ struct GraphicsState {
     inside_medium: String,
     outside_medium: String,
     color_space: ColorSpaceName,
-    attributes: [Vec<Param>; 5],
+    /// The `Attribute` parameters, indexed by [`AttributeTarget`].
+    attributes: [Vec<Param>; AttributeTarget::ALL.len()],
 }
 
 impl Default for GraphicsState {
@@ -94,6 +128,15 @@ fn declared_type(e: &ParsedEntity, what: &str, loc: &Location) -> Result<String>
             format!("{what} \"{}\": \"string type\" not provided", e.kind),
             loc,
         ),
+    }
+}
+
+/// The transform of a `Transform` or `ConcatTransform` matrix, which must
+/// be invertible.
+fn invertible(matrix: &[f64; 16], keyword: &str, loc: &Location) -> Result<Transform> {
+    match Transform::from_pbrt_array(matrix) {
+        Some(t) => Ok(t),
+        None => scene_error(format!("{keyword}: the matrix is not invertible"), loc),
     }
 }
 
@@ -227,10 +270,11 @@ impl SceneBuilder {
         category: Category,
         kind: &str,
         params: Vec<Param>,
-        attributes: Option<usize>,
+        attributes: Option<AttributeTarget>,
         location: &Location,
     ) -> Result<Entity> {
-        let attributes: &[Param] = attributes.map_or(&[], |i| &self.state.attributes[i]);
+        let attributes: &[Param] =
+            attributes.map_or(&[], |target| &self.state.attributes[target as usize]);
         let params = ParamSet::new(params, attributes);
         schema::check(category, kind, &params, location)?;
         Ok(Entity {
@@ -251,7 +295,9 @@ impl SceneBuilder {
             .insert("world".to_string(), [Transform::IDENTITY; 2]);
     }
 
-    /// Applies one directive.
+    /// Applies one directive: transforms and the graphics state here, the
+    /// rest through one method per directive (as pbrt-v4's
+    /// `BasicSceneBuilder`).
     pub fn apply(&mut self, located: Located) -> Result<()> {
         let Located {
             directive,
@@ -273,28 +319,9 @@ impl SceneBuilder {
                     None => return scene_error("Rotate needs a non-zero axis", loc),
                 }
             }
-            D::LookAt(v) => {
-                let [ex, ey, ez, lx, ly, lz, ux, uy, uz] = v;
-                match Transform::look_at(DVec3::new(ex, ey, ez), DVec3::new(lx, ly, lz), DVec3::new(ux, uy, uz)) {
-                    Some(t) => self.concat(t),
-                    None => {
-                        return scene_error(
-                            "LookAt: the up vector is parallel to the viewing direction (or eye = look)",
-                            loc,
-                        )
-                    }
-                }
-            }
-            D::ConcatTransform(m) | D::Transform(m) => {
-                let Some(t) = Transform::from_pbrt_array(&m) else {
-                    return scene_error(format!("{keyword}: the matrix is not invertible"), loc);
-                };
-                if keyword == "Transform" {
-                    self.set_ctm(t);
-                } else {
-                    self.concat(t);
-                }
-            }
+            D::LookAt(v) => self.look_at(v, loc)?,
+            D::ConcatTransform(m) => self.concat(invertible(&m, keyword, loc)?),
+            D::Transform(m) => self.set_ctm(invertible(&m, keyword, loc)?),
             D::ActiveTransform(t) => {
                 self.state.active = match t {
                     ActiveTransform::StartTime => [true, false],
@@ -302,16 +329,7 @@ impl SceneBuilder {
                     ActiveTransform::All => [true, true],
                 }
             }
-            D::TransformTimes(start, end) => {
-                self.require(Block::Options, keyword, loc)?;
-                if end < start {
-                    return scene_error(
-                        "TransformTimes: the end time is before the start time",
-                        loc,
-                    );
-                }
-                self.transform_times = (start, end);
-            }
+            D::TransformTimes(start, end) => self.transform_times(start, end, loc)?,
             D::CoordinateSystem(name) => {
                 self.named_coordinate_systems.insert(name, self.state.ctm);
             }
@@ -322,56 +340,14 @@ impl SceneBuilder {
                     loc,
                 ),
             },
-            D::ColorSpace(name) => {
-                let Some(space) = ColorSpaceName::from_name(&name) else {
-                    let known: Vec<&str> = ColorSpaceName::ALL.iter().map(|(n, _)| *n).collect();
-                    return scene_error(
-                        format!(
-                            "unknown colour space \"{name}\" (expected one of {})",
-                            known.join(", ")
-                        ),
-                        loc,
-                    );
-                };
-                self.state.color_space = space;
-            }
+            D::ColorSpace(name) => self.color_space(&name, loc)?,
             D::Option(param) => self.option(param)?,
-            D::Camera(e) => {
-                self.require(Block::Options, keyword, loc)?;
-                let entity = self.entity(Category::Camera, &e.kind, e.params, None, loc)?;
-                let camera_from_world = self.animated_ctm();
-                let inverse = [self.state.ctm[0].inverse(), self.state.ctm[1].inverse()];
-                self.named_coordinate_systems
-                    .insert("camera".to_string(), inverse);
-                self.scene.camera = Camera {
-                    entity,
-                    camera_from_world,
-                    medium: self.state.outside_medium.clone(),
-                };
-            }
+            D::Camera(e) => self.camera(e, loc)?,
             D::Film(e)
             | D::Sampler(e)
             | D::PixelFilter(e)
             | D::Integrator(e)
-            | D::Accelerator(e) => {
-                self.require(Block::Options, keyword, loc)?;
-                let category = match keyword {
-                    "Film" => Category::Film,
-                    "Sampler" => Category::Sampler,
-                    "PixelFilter" => Category::Filter,
-                    "Integrator" => Category::Integrator,
-                    _ => Category::Accelerator,
-                };
-                let entity = self.entity(category, &e.kind, e.params, None, loc)?;
-                let slot = match category {
-                    Category::Film => &mut self.scene.film,
-                    Category::Sampler => &mut self.scene.sampler,
-                    Category::Filter => &mut self.scene.filter,
-                    Category::Integrator => &mut self.scene.integrator,
-                    _ => &mut self.scene.accelerator,
-                };
-                *slot = entity;
-            }
+            | D::Accelerator(e) => self.render_setting(e, keyword, loc)?,
             D::WorldBegin => {
                 self.require(Block::Options, keyword, loc)?;
                 self.begin_world();
@@ -382,54 +358,14 @@ impl SceneBuilder {
                 self.stack
                     .push((self.state.clone(), Nesting::Attribute, location.clone()));
             }
-            D::AttributeEnd => {
-                self.require(Block::World, keyword, loc)?;
-                match self.stack.last() {
-                    None => return scene_error(format!("unmatched {keyword} (no AttributeBegin is open)"), loc),
-                    Some((_, Nesting::Object, begin)) => {
-                        return scene_error(
-                            format!("mismatched nesting: {keyword} while the ObjectBegin at {begin} is open"),
-                            loc,
-                        )
-                    }
-                    Some(_) => {
-                        let (state, _, _) = self.stack.pop().expect("checked above");
-                        self.state = state;
-                    }
-                }
-            }
-            D::Attribute(e) => {
-                let Some(target) = ATTRIBUTE_TARGETS.iter().position(|t| *t == e.kind) else {
-                    return scene_error(
-                        format!(
-                            "unknown Attribute target \"{}\" (expected \"shape\", \"light\", \"material\", \"medium\" or \"texture\")",
-                            e.kind
-                        ),
-                        loc,
-                    );
-                };
-                self.state.attributes[target].extend(e.params);
-            }
+            D::AttributeEnd => self.attribute_end(keyword, loc)?,
+            D::Attribute(e) => self.attribute(e, loc)?,
             D::ReverseOrientation => {
                 self.require(Block::World, keyword, loc)?;
                 self.state.reverse_orientation = !self.state.reverse_orientation;
             }
-            D::Material(e) => {
-                self.require(Block::World, keyword, loc)?;
-                let entity = self.entity(Category::Material, &e.kind, e.params, Some(2), loc)?;
-                self.scene.materials.push(entity);
-                self.state.material = MaterialRef::Anonymous(self.scene.materials.len() - 1);
-            }
-            D::MakeNamedMaterial(e) => {
-                self.require(Block::World, keyword, loc)?;
-                let name = e.kind.clone();
-                if self.scene.named_materials.contains_key(&name) {
-                    return scene_error(format!("named material \"{name}\" redefined"), loc);
-                }
-                let kind = declared_type(&e, "named material", loc)?;
-                let entity = self.entity(Category::Material, &kind, e.params, Some(2), loc)?;
-                self.scene.named_materials.insert(name, entity);
-            }
+            D::Material(e) => self.material(e, keyword, loc)?,
+            D::MakeNamedMaterial(e) => self.make_named_material(e, keyword, loc)?,
             D::NamedMaterial(name) => {
                 self.require(Block::World, keyword, loc)?;
                 self.state.material = MaterialRef::Named(name);
@@ -438,121 +374,32 @@ impl SceneBuilder {
                 name,
                 value_type,
                 class,
-            } => {
-                self.require(Block::World, keyword, loc)?;
-                let value = match value_type.as_str() {
-                    "float" => TextureValue::Float,
-                    "spectrum" => TextureValue::Spectrum,
-                    other => {
-                        return scene_error(
-                            format!(
-                            "texture type \"{other}\" unknown: expected \"float\" or \"spectrum\""
-                        ),
-                            loc,
-                        )
-                    }
-                };
-                if !self.texture_names.insert((value, name.clone())) {
-                    return scene_error(format!("texture \"{name}\" redefined"), loc);
-                }
-                let entity =
-                    self.entity(Category::Texture, &class.kind, class.params, Some(4), loc)?;
-                self.scene.textures.push(Texture {
-                    name,
-                    value,
-                    entity,
-                    world_from_texture: self.state.ctm[0],
-                });
-            }
-            D::MakeNamedMedium(e) => {
-                let name = e.kind.clone();
-                if self.scene.media.iter().any(|m| m.name == name) {
-                    return scene_error(format!("named medium \"{name}\" redefined"), loc);
-                }
-                let kind = declared_type(&e, "medium", loc)?;
-                let entity = self.entity(Category::Medium, &kind, e.params, Some(3), loc)?;
-                self.scene.media.push(Medium {
-                    name,
-                    entity,
-                    world_from_medium: self.state.ctm[0],
-                });
-            }
+            } => self.texture(name, &value_type, class, keyword, loc)?,
+            D::MakeNamedMedium(e) => self.make_named_medium(e, loc)?,
             D::MediumInterface { inside, outside } => {
                 self.state.inside_medium = inside;
                 self.state.outside_medium = outside;
             }
-            D::LightSource(e) => {
-                self.require(Block::World, keyword, loc)?;
-                let entity = self.entity(Category::Light, &e.kind, e.params, Some(1), loc)?;
-                if self.animated_ctm().is_animated() {
-                    self.warn(
-                        "animated lights aren't supported; using the start transform",
-                        loc,
-                    );
-                }
-                self.scene.lights.push(Light {
-                    entity,
-                    world_from_light: self.state.ctm[0],
-                    medium: self.state.outside_medium.clone(),
-                });
-            }
+            D::LightSource(e) => self.light_source(e, keyword, loc)?,
             D::AreaLightSource(e) => {
                 self.require(Block::World, keyword, loc)?;
                 // Check now, so the error points here rather than at a shape.
-                self.entity(Category::AreaLight, &e.kind, e.params.clone(), Some(1), loc)?;
+                self.entity(
+                    Category::AreaLight,
+                    &e.kind,
+                    e.params.clone(),
+                    Some(AttributeTarget::Light),
+                    loc,
+                )?;
                 self.state.area_light = Some((e, location.clone()));
             }
             D::Shape(e) => {
                 self.require(Block::World, keyword, loc)?;
                 self.shape(e, loc)?;
             }
-            D::ObjectBegin(name) => {
-                self.require(Block::World, keyword, loc)?;
-                if self.current_object.is_some() {
-                    return scene_error(
-                        "ObjectBegin inside an object definition (objects cannot nest)",
-                        loc,
-                    );
-                }
-                if !self.object_names.insert(name.clone()) {
-                    return scene_error(format!("object \"{name}\" redefined"), loc);
-                }
-                self.stack
-                    .push((self.state.clone(), Nesting::Object, location.clone()));
-                self.current_object = Some(Object {
-                    name,
-                    shapes: Vec::new(),
-                    location: Loc(location.clone()),
-                });
-            }
-            D::ObjectEnd => {
-                self.require(Block::World, keyword, loc)?;
-                let Some(object) = self.current_object.take() else {
-                    return scene_error("ObjectEnd outside an object definition", loc);
-                };
-                match self.stack.pop() {
-                    Some((state, Nesting::Object, _)) => self.state = state,
-                    Some((_, Nesting::Attribute, begin)) => {
-                        return scene_error(
-                            format!("mismatched nesting: ObjectEnd while the AttributeBegin at {begin} is open"),
-                            loc,
-                        )
-                    }
-                    None => return scene_error("ObjectEnd without ObjectBegin", loc),
-                }
-                self.scene.objects.push(object);
-            }
-            D::ObjectInstance(name) => {
-                self.require(Block::World, keyword, loc)?;
-                if self.current_object.is_some() {
-                    return scene_error(
-                        "ObjectInstance inside an object definition (instances cannot nest)",
-                        loc,
-                    );
-                }
-                let t = self.current_transform();
-                self.pending_instances.push((name, t, location.clone()));
-            }
+            D::ObjectBegin(name) => self.object_begin(name, keyword, loc)?,
+            D::ObjectEnd => self.object_end(keyword, loc)?,
+            D::ObjectInstance(name) => self.object_instance(name, keyword, loc)?,
             D::Include(_) | D::Import(_) => {
                 return scene_error(
                     format!(
@@ -562,6 +409,314 @@ impl SceneBuilder {
                 )
             }
         }
+        Ok(())
+    }
+
+    /// `LookAt`: eye, look-at point and up vector.
+    fn look_at(&mut self, v: [f64; 9], loc: &Location) -> Result<()> {
+        let [ex, ey, ez, lx, ly, lz, ux, uy, uz] = v;
+        match Transform::look_at(
+            DVec3::new(ex, ey, ez),
+            DVec3::new(lx, ly, lz),
+            DVec3::new(ux, uy, uz),
+        ) {
+            Some(t) => {
+                self.concat(t);
+                Ok(())
+            }
+            None => scene_error(
+                "LookAt: the up vector is parallel to the viewing direction (or eye = look)",
+                loc,
+            ),
+        }
+    }
+
+    /// `TransformTimes`: the times of the start and end transforms.
+    fn transform_times(&mut self, start: f64, end: f64, loc: &Location) -> Result<()> {
+        self.require(Block::Options, "TransformTimes", loc)?;
+        if end < start {
+            return scene_error("TransformTimes: the end time is before the start time", loc);
+        }
+        self.transform_times = (start, end);
+        Ok(())
+    }
+
+    /// `ColorSpace`: the colour space of the entities that follow.
+    fn color_space(&mut self, name: &str, loc: &Location) -> Result<()> {
+        let Some(space) = ColorSpaceName::from_name(name) else {
+            let known: Vec<&str> = ColorSpaceName::ALL.iter().map(|(n, _)| *n).collect();
+            return scene_error(
+                format!(
+                    "unknown colour space \"{name}\" (expected one of {})",
+                    known.join(", ")
+                ),
+                loc,
+            );
+        };
+        self.state.color_space = space;
+        Ok(())
+    }
+
+    /// `Camera`: also names the `"camera"` coordinate system.
+    fn camera(&mut self, e: ParsedEntity, loc: &Location) -> Result<()> {
+        self.require(Block::Options, "Camera", loc)?;
+        let entity = self.entity(Category::Camera, &e.kind, e.params, None, loc)?;
+        let camera_from_world = self.animated_ctm();
+        let inverse = [self.state.ctm[0].inverse(), self.state.ctm[1].inverse()];
+        self.named_coordinate_systems
+            .insert("camera".to_string(), inverse);
+        self.scene.camera = Camera {
+            entity,
+            camera_from_world,
+            medium: self.state.outside_medium.clone(),
+        };
+        Ok(())
+    }
+
+    /// `Film`, `Sampler`, `PixelFilter`, `Integrator` and `Accelerator`:
+    /// each replaces the scene's one entity of its kind.
+    fn render_setting(&mut self, e: ParsedEntity, keyword: &str, loc: &Location) -> Result<()> {
+        self.require(Block::Options, keyword, loc)?;
+        let category = match keyword {
+            "Film" => Category::Film,
+            "Sampler" => Category::Sampler,
+            "PixelFilter" => Category::Filter,
+            "Integrator" => Category::Integrator,
+            _ => Category::Accelerator,
+        };
+        let entity = self.entity(category, &e.kind, e.params, None, loc)?;
+        let slot = match category {
+            Category::Film => &mut self.scene.film,
+            Category::Sampler => &mut self.scene.sampler,
+            Category::Filter => &mut self.scene.filter,
+            Category::Integrator => &mut self.scene.integrator,
+            _ => &mut self.scene.accelerator,
+        };
+        *slot = entity;
+        Ok(())
+    }
+
+    /// `AttributeEnd`: restores the state saved by the matching
+    /// `AttributeBegin`.
+    fn attribute_end(&mut self, keyword: &str, loc: &Location) -> Result<()> {
+        self.require(Block::World, keyword, loc)?;
+        match self.stack.last() {
+            None => scene_error(
+                format!("unmatched {keyword} (no AttributeBegin is open)"),
+                loc,
+            ),
+            Some((_, Nesting::Object, begin)) => scene_error(
+                format!("mismatched nesting: {keyword} while the ObjectBegin at {begin} is open"),
+                loc,
+            ),
+            Some((_, Nesting::Attribute, _)) => {
+                if let Some((state, _, _)) = self.stack.pop() {
+                    self.state = state;
+                }
+                Ok(())
+            }
+        }
+    }
+
+    /// `Attribute "target" ...`: parameters every later entity of the
+    /// target's kind gets unless it sets them itself.
+    fn attribute(&mut self, e: ParsedEntity, loc: &Location) -> Result<()> {
+        let Some(target) = AttributeTarget::from_name(&e.kind) else {
+            return scene_error(
+                format!(
+                    "unknown Attribute target \"{}\" (expected \"shape\", \"light\", \"material\", \"medium\" or \"texture\")",
+                    e.kind
+                ),
+                loc,
+            );
+        };
+        self.state.attributes[target as usize].extend(e.params);
+        Ok(())
+    }
+
+    /// `Material`: an anonymous material, the current one from here on.
+    fn material(&mut self, e: ParsedEntity, keyword: &str, loc: &Location) -> Result<()> {
+        self.require(Block::World, keyword, loc)?;
+        let entity = self.entity(
+            Category::Material,
+            &e.kind,
+            e.params,
+            Some(AttributeTarget::Material),
+            loc,
+        )?;
+        self.scene.materials.push(entity);
+        self.state.material = MaterialRef::Anonymous(self.scene.materials.len() - 1);
+        Ok(())
+    }
+
+    /// `MakeNamedMaterial`: a named material (a name is defined once).
+    fn make_named_material(
+        &mut self,
+        e: ParsedEntity,
+        keyword: &str,
+        loc: &Location,
+    ) -> Result<()> {
+        self.require(Block::World, keyword, loc)?;
+        let name = e.kind.clone();
+        if self.scene.named_materials.contains_key(&name) {
+            return scene_error(format!("named material \"{name}\" redefined"), loc);
+        }
+        let kind = declared_type(&e, "named material", loc)?;
+        let entity = self.entity(
+            Category::Material,
+            &kind,
+            e.params,
+            Some(AttributeTarget::Material),
+            loc,
+        )?;
+        self.scene.named_materials.insert(name, entity);
+        Ok(())
+    }
+
+    /// `Texture "name" "float"|"spectrum" "class" ...`: a named texture
+    /// (a name is defined once per value type).
+    fn texture(
+        &mut self,
+        name: String,
+        value_type: &str,
+        class: ParsedEntity,
+        keyword: &str,
+        loc: &Location,
+    ) -> Result<()> {
+        self.require(Block::World, keyword, loc)?;
+        let value = match value_type {
+            "float" => TextureValue::Float,
+            "spectrum" => TextureValue::Spectrum,
+            other => {
+                return scene_error(
+                    format!("texture type \"{other}\" unknown: expected \"float\" or \"spectrum\""),
+                    loc,
+                )
+            }
+        };
+        if !self.texture_names.insert((value, name.clone())) {
+            return scene_error(format!("texture \"{name}\" redefined"), loc);
+        }
+        let entity = self.entity(
+            Category::Texture,
+            &class.kind,
+            class.params,
+            Some(AttributeTarget::Texture),
+            loc,
+        )?;
+        self.scene.textures.push(Texture {
+            name,
+            value,
+            entity,
+            world_from_texture: self.state.ctm[0],
+        });
+        Ok(())
+    }
+
+    /// `MakeNamedMedium`: a named medium (a name is defined once).
+    fn make_named_medium(&mut self, e: ParsedEntity, loc: &Location) -> Result<()> {
+        let name = e.kind.clone();
+        if self.scene.media.iter().any(|m| m.name == name) {
+            return scene_error(format!("named medium \"{name}\" redefined"), loc);
+        }
+        let kind = declared_type(&e, "medium", loc)?;
+        let entity = self.entity(
+            Category::Medium,
+            &kind,
+            e.params,
+            Some(AttributeTarget::Medium),
+            loc,
+        )?;
+        self.scene.media.push(Medium {
+            name,
+            entity,
+            world_from_medium: self.state.ctm[0],
+        });
+        Ok(())
+    }
+
+    /// `LightSource`: a light at the CTM's start transform.
+    fn light_source(&mut self, e: ParsedEntity, keyword: &str, loc: &Location) -> Result<()> {
+        self.require(Block::World, keyword, loc)?;
+        let entity = self.entity(
+            Category::Light,
+            &e.kind,
+            e.params,
+            Some(AttributeTarget::Light),
+            loc,
+        )?;
+        if self.animated_ctm().is_animated() {
+            self.warn(
+                "animated lights aren't supported; using the start transform",
+                loc,
+            );
+        }
+        self.scene.lights.push(Light {
+            entity,
+            world_from_light: self.state.ctm[0],
+            medium: self.state.outside_medium.clone(),
+        });
+        Ok(())
+    }
+
+    /// `ObjectBegin`: starts an object definition (objects do not nest;
+    /// a name is defined once), saving the graphics state.
+    fn object_begin(&mut self, name: String, keyword: &str, loc: &Location) -> Result<()> {
+        self.require(Block::World, keyword, loc)?;
+        if self.current_object.is_some() {
+            return scene_error(
+                "ObjectBegin inside an object definition (objects cannot nest)",
+                loc,
+            );
+        }
+        if !self.object_names.insert(name.clone()) {
+            return scene_error(format!("object \"{name}\" redefined"), loc);
+        }
+        self.stack
+            .push((self.state.clone(), Nesting::Object, loc.clone()));
+        self.current_object = Some(Object {
+            name,
+            shapes: Vec::new(),
+            location: Loc(loc.clone()),
+        });
+        Ok(())
+    }
+
+    /// `ObjectEnd`: ends the object definition, restoring the graphics
+    /// state.
+    fn object_end(&mut self, keyword: &str, loc: &Location) -> Result<()> {
+        self.require(Block::World, keyword, loc)?;
+        let Some(object) = self.current_object.take() else {
+            return scene_error("ObjectEnd outside an object definition", loc);
+        };
+        match self.stack.pop() {
+            Some((state, Nesting::Object, _)) => self.state = state,
+            Some((_, Nesting::Attribute, begin)) => {
+                return scene_error(
+                    format!(
+                        "mismatched nesting: ObjectEnd while the AttributeBegin at {begin} is open"
+                    ),
+                    loc,
+                )
+            }
+            None => return scene_error("ObjectEnd without ObjectBegin", loc),
+        }
+        self.scene.objects.push(object);
+        Ok(())
+    }
+
+    /// `ObjectInstance`: an instance of a named object at the CTM,
+    /// resolved at the end (an object may be defined after its use).
+    fn object_instance(&mut self, name: String, keyword: &str, loc: &Location) -> Result<()> {
+        self.require(Block::World, keyword, loc)?;
+        if self.current_object.is_some() {
+            return scene_error(
+                "ObjectInstance inside an object definition (instances cannot nest)",
+                loc,
+            );
+        }
+        let t = self.current_transform();
+        self.pending_instances.push((name, t, loc.clone()));
         Ok(())
     }
 
@@ -625,7 +780,13 @@ impl SceneBuilder {
             );
             e.params.retain(|p| p.name != "emissionfilename");
         }
-        let entity = self.entity(Category::Shape, &e.kind, e.params, Some(0), loc)?;
+        let entity = self.entity(
+            Category::Shape,
+            &e.kind,
+            e.params,
+            Some(AttributeTarget::Shape),
+            loc,
+        )?;
         let world_from_object = self.current_transform();
         let mut area_light = None;
         if let Some((light, light_loc)) = &self.state.area_light {
@@ -639,7 +800,7 @@ impl SceneBuilder {
                     Category::AreaLight,
                     &light.kind,
                     light.params.clone(),
-                    Some(1),
+                    Some(AttributeTarget::Light),
                     light_loc,
                 )?;
                 self.scene.area_lights.push(light);
