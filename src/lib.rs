@@ -1,7 +1,8 @@
 //! rpbrt: a renderer for pbrt-v4 scenes, built for hair.
 //!
 //! Data flows one way: scene text → directives (the `pbrt-parser` crate) →
-//! scene description ([`scene`]) → built scene → integrator → film → image.
+//! scene description ([`scene_description`], written by [`scene`]'s builder)
+//! → built scene ([`scene`]'s build) → integrator → film → image.
 //! See `docs/architecture.md`.
 
 pub mod accel;
@@ -20,6 +21,7 @@ pub mod pipeline;
 pub mod render;
 pub mod samplers;
 pub mod scene;
+pub mod scene_description;
 pub mod shapes;
 pub mod spectrum;
 pub mod textures;

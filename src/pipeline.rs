@@ -9,7 +9,7 @@ use crate::image::{DataWindow, Image};
 use crate::integrators::{path_li, RayCounts};
 use crate::render::{interrupt_flag, render};
 use crate::scene::build::{build, RenderOverrides};
-use crate::scene::description::ColorSpaceName;
+use crate::scene_description::ColorSpaceName;
 use crate::spectrum::SampledWavelengths;
 use glam::Vec2;
 use std::path::{Path, PathBuf};

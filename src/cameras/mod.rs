@@ -12,7 +12,7 @@ pub use transform::CameraTransform;
 
 use crate::error::{scene_error, Result};
 use crate::math::Ray;
-use crate::scene::description;
+use crate::scene_description;
 use crate::spectrum::SampledWavelengths;
 use glam::{IVec2, Vec2, Vec3};
 
@@ -55,7 +55,7 @@ fn differential_scale(samples_per_pixel: u32, pixel_jitter: bool) -> f32 {
 
 impl Camera {
     /// Creates the scene's camera for a film of `full_resolution`.
-    pub fn create(camera: &description::Camera, full_resolution: IVec2) -> Result<Camera> {
+    pub fn create(camera: &scene_description::Camera, full_resolution: IVec2) -> Result<Camera> {
         let entity = &camera.entity;
         let transform = CameraTransform::new(&camera.camera_from_world);
         match entity.kind.as_str() {

@@ -14,7 +14,7 @@ use super::{CameraRay, CameraSample, CameraTransform};
 use crate::error::{scene_error, Result};
 use crate::math::sampling::sample_uniform_disk_concentric;
 use crate::math::Ray;
-use crate::scene::description::Entity;
+use crate::scene_description::Entity;
 use glam::{IVec2, Vec2, Vec3};
 
 pub struct PerspectiveCamera {

@@ -1,7 +1,7 @@
 //! Camera space, render space and world space.
 
 use crate::math::Transform;
-use crate::scene::description::AnimatedTransform;
+use crate::scene_description::AnimatedTransform;
 use glam::{DVec3, Mat4};
 
 /// pbrt-v4's CameraTransform for the "cameraworld" render space: render

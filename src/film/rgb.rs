@@ -14,7 +14,7 @@
 //! | `diagonal` | float | 35 | film diagonal in mm (realistic camera only) |
 
 use crate::error::{scene_error, Result};
-use crate::scene::description::Entity;
+use crate::scene_description::Entity;
 
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::{IVec2, Mat3, Vec3};

@@ -25,7 +25,7 @@ pub use mitchell::MitchellFilter;
 pub use triangle::TriangleFilter;
 
 use crate::error::{scene_error, Result};
-use crate::scene::description::Entity;
+use crate::scene_description::Entity;
 use filter_sampler::{table_size, MAX_TABLE_CELLS};
 use glam::Vec2;
 

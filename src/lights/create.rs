@@ -3,10 +3,10 @@
 use super::{DiffuseAreaLight, DistantLight, Light, PointLight, SpotLight, UniformInfiniteLight};
 use crate::error::{image_file_error, scene_error, Result};
 use crate::math::Transform;
-use crate::scene::description::{self, Entity};
-use crate::scene::spectrum_param::spectrum_param;
+use crate::scene_description::{self, Entity};
 use crate::shapes::{Shape, ShapeStorage};
 use crate::spectrum::color_space::SpectrumKind;
+use crate::spectrum::parameter::spectrum_param;
 use crate::spectrum::{spectrum_to_photometric as photometric, Spectrum};
 use glam::{DVec3, Vec3};
 use std::f32::consts::PI;
@@ -29,7 +29,7 @@ fn emission(entity: &Entity, name: &str, base: &Path) -> Result<(Spectrum, f32)>
 
 /// A `LightSource`.
 pub fn create_light(
-    light: &description::Light,
+    light: &scene_description::Light,
     render_from_world: &Transform,
     base: &Path,
 ) -> Result<Light> {
@@ -114,7 +114,7 @@ pub fn create_light(
             let rgb: Vec<[f32; 3]> = data.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
             // Images carry no colour space here: linear sRGB (pbrt-v4's
             // default when the file names none).
-            let color_space = crate::spectrum::color_space::get(crate::scene::description::ColorSpaceName::Srgb);
+            let color_space = crate::spectrum::color_space::get(crate::scene_description::ColorSpaceName::Srgb);
             let scale = p.float("scale", 1.0)? as f32 / photometric(&color_space.illuminant);
             p.report_unused(|| "light \"infinite\"".into())?;
             let render_from_light = render_from_light.to_mat4();

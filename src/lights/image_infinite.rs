@@ -193,7 +193,7 @@ impl ImageInfiniteLight {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::scene::description::ColorSpaceName;
+    use crate::scene_description::ColorSpaceName;
     use crate::spectrum::color_space::SpectrumKind;
 
     /// A 16 × 16 environment with smoothly varying colours and one bright

@@ -37,7 +37,7 @@ use crate::bxdfs::dual_hair::DualHairParams;
 use crate::bxdfs::hair_diffraction::Diffraction;
 use crate::bxdfs::hair_ellipse::{Ellipse, InternalFresnel, Residual, Variant};
 use crate::error::{scene_error, Result};
-use crate::scene::params::ParamSet;
+use crate::scene_description::params::ParamSet;
 use glam::{Vec2, Vec3};
 use pbrt_parser::ParamType;
 

@@ -23,8 +23,8 @@ use crate::bxdfs::{
 };
 use crate::error::{scene_error, Result};
 use crate::interaction::SurfaceInteraction;
-use crate::scene::description::ColorSpaceName;
-use crate::scene::description::Entity;
+use crate::scene_description::ColorSpaceName;
+use crate::scene_description::Entity;
 use crate::spectrum::color_space::SpectrumKind;
 use crate::spectrum::{named_spectrum, SampledSpectrum, SampledWavelengths, Spectrum};
 use crate::textures::{
@@ -151,7 +151,7 @@ fn eta_param(tp: &TextureParams, name: &str) -> Result<Eta> {
                 ))
             }
             ParamType::Spectrum => {
-                if let Some(s) = crate::scene::spectrum_param::spectrum_param(
+                if let Some(s) = crate::spectrum::parameter::spectrum_param(
                     tp.params,
                     name,
                     SpectrumKind::Unbounded,

@@ -66,7 +66,7 @@ pub use stratified::StratifiedSampler;
 pub use zsobol::ZSobolSampler;
 
 use crate::error::{scene_error, Result};
-use crate::scene::description::Entity;
+use crate::scene_description::Entity;
 use glam::{IVec2, Vec2};
 
 /// Image sides beyond this are refused (the `sobol` sampler's pixel grid

@@ -13,7 +13,7 @@ use crate::error::{scene_error, Result};
 use crate::interaction::SurfaceInteraction;
 use crate::math::hash::hash_words;
 use crate::math::Ray;
-use crate::scene::description::Shape;
+use crate::scene_description::Shape;
 use crate::textures::{FloatTexture, NamedTextures, TextureEvalContext, TextureParams};
 use std::path::Path;
 

@@ -3,7 +3,6 @@
 //! The built scene is immutable and shared by all render threads.
 
 use super::alpha;
-use super::description::{Entity, SceneDescription, TextureValue};
 use super::placed_shapes;
 use crate::accel::instance::{build_levels, InstanceAccel};
 use crate::accel::Bvh;
@@ -16,6 +15,7 @@ use crate::lights::{self, Light, LightSampler};
 use crate::materials::Material;
 use crate::math::{offset_ray_origin, Bounds3, Ray};
 use crate::samplers::Sampler;
+use crate::scene_description::{Entity, SceneDescription, TextureValue};
 use crate::shapes::curve::CurvePiece;
 use crate::shapes::{Shape, ShapeStorage};
 use crate::spectrum::color_space::SpectrumKind;

@@ -7,11 +7,11 @@
 //! are global. Every entity is checked against pbrt-v4's parameters for its
 //! type as it is read.
 
-use super::description::*;
-use super::params::ParamSet;
-use super::schema::{self, Category};
 use crate::error::{scene_error, Error, Result};
 use crate::math::Transform;
+use crate::scene_description::params::ParamSet;
+use crate::scene_description::schema::{self, Category};
+use crate::scene_description::*;
 use glam::DVec3;
 use pbrt_parser::{
     ActiveTransform, Directive, Entity as ParsedEntity, Located, Location, Param, Parser, Warning,

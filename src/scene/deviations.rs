@@ -16,8 +16,8 @@
 //!   Met when an EXR a texture or light names (`filename`) declares
 //!   primaries other than sRGB's (only the file's header is read here).
 
-use super::description::{Entity, SceneDescription};
 use crate::materials::Material;
+use crate::scene_description::{Entity, SceneDescription};
 use pbrt_parser::{Values, Warning};
 use std::path::Path;
 

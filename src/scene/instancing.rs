@@ -18,9 +18,9 @@
 //! - Animated instance transforms (pbrt-v4 supports them through
 //!   `ActiveTransform`/`TransformTimes`) are not supported yet: an error.
 
-use super::description::{SceneDescription, Shape};
 use crate::error::{scene_error, Result};
 use crate::math::Transform;
+use crate::scene_description::{SceneDescription, Shape};
 use pbrt_parser::Warning;
 
 /// A shape and where its primitives go.

@@ -7,11 +7,11 @@
 //! another took 140–200 ms of its build.
 
 use super::alpha::Alpha;
-use super::description::{Entity, MaterialRef, SceneDescription, Shape as ShapeEntity};
 use super::instancing::ShapePlacement;
 use crate::error::{scene_error, Error, Result};
 use crate::materials::Material;
 use crate::math::Transform;
+use crate::scene_description::{Entity, MaterialRef, SceneDescription, Shape as ShapeEntity};
 use crate::shapes::curve_frame::{strand_angle, FibreFrame};
 use crate::shapes::{create_shapes, Shape, ShapeStorage};
 use crate::textures::{FloatTexture, NamedTextures};

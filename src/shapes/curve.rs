@@ -32,7 +32,7 @@
 use crate::error::{scene_error, Result};
 use crate::interaction::SurfaceInteraction;
 use crate::math::{Bounds3, Ray, Transform};
-use crate::scene::description;
+use crate::scene_description;
 use glam::{DVec3, Vec2, Vec3};
 use pbrt_parser::Location;
 
@@ -554,7 +554,7 @@ impl CurveHit {
 
 /// The curve's segments (in render space) and their BVH pieces.
 pub fn create_curves(
-    shape: &description::Shape,
+    shape: &scene_description::Shape,
     render_from_object: &Transform,
     reverse_orientation: bool,
     segments: &mut Vec<CurveSegment>,

@@ -49,7 +49,7 @@
 use super::curve::{self, CurvePiece, CurveSegment, CurveType};
 use crate::error::{scene_error, unreadable_file, Error, Result, SceneError};
 use crate::math::Transform;
-use crate::scene::description;
+use crate::scene_description;
 use glam::DVec3;
 use pbrt_parser::{Location, ParamType};
 use std::io::{BufReader, Read};
@@ -637,7 +637,7 @@ pub fn for_each_strand(
 /// The curve segments (in render space) and their BVH pieces of a
 /// `cyhair` shape.
 pub fn create_cyhair(
-    shape: &description::Shape,
+    shape: &scene_description::Shape,
     render_from_object: &Transform,
     reverse_orientation: bool,
     base_directory: &Path,

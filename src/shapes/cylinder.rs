@@ -25,7 +25,7 @@ use crate::error::Result;
 use crate::interaction::SurfaceInteraction;
 use crate::math::ray::gamma;
 use crate::math::{lerp, sqr, Bounds3, Ray, Transform};
-use crate::scene::params::ParamSet;
+use crate::scene_description::params::ParamSet;
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
 

@@ -24,7 +24,7 @@ use crate::error::Result;
 use crate::interaction::SurfaceInteraction;
 use crate::math::sampling::sample_uniform_disk_concentric;
 use crate::math::{sqr, Bounds3, Ray, Transform};
-use crate::scene::params::ParamSet;
+use crate::scene_description::params::ParamSet;
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
 

@@ -17,7 +17,7 @@
 
 use crate::error::{scene_error, Result};
 use crate::math::Transform;
-use crate::scene::params::ParamSet;
+use crate::scene_description::params::ParamSet;
 use glam::{DVec3, Vec2, Vec3};
 use pbrt_parser::{Location, ParamType};
 

@@ -46,7 +46,7 @@ pub use triangle::Triangle;
 use crate::error::{scene_error, Result};
 use crate::interaction::SurfaceInteraction;
 use crate::math::{offset_ray_origin, Bounds3, Ray, Transform};
-use crate::scene::description;
+use crate::scene_description;
 use glam::{Vec2, Vec3};
 use pbrt_parser::{ParamType, Warning};
 use rayon::prelude::*;
@@ -489,7 +489,7 @@ pub(crate) fn solid_angle_pdf_of_hit(
 /// Problems pbrt-v4 only warns about (PLY faces that are neither triangles
 /// nor quads) are added to `warnings`.
 pub fn create_shapes(
-    shape: &description::Shape,
+    shape: &scene_description::Shape,
     render_from_object: &Transform,
     reverse_orientation: bool,
     base_directory: &Path,

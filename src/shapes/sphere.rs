@@ -31,7 +31,7 @@ use crate::error::Result;
 use crate::math::ray::gamma;
 use crate::math::sampling::sample_uniform_sphere;
 use crate::math::{safe_acos, safe_sqrt, sqr, Bounds3, Frame, Ray, Transform};
-use crate::scene::params::ParamSet;
+use crate::scene_description::params::ParamSet;
 use glam::{Vec2, Vec3};
 use std::f32::consts::PI;
 

@@ -16,7 +16,7 @@ use super::sampled::{SampledSpectrum, SampledWavelengths};
 use super::sigmoid_polynomial::RgbSigmoidPolynomial;
 use super::spectrum::Spectrum;
 use super::xyz::{spectrum_to_xyz, xyy_to_xyz, xyz_to_xy};
-use crate::scene::description::ColorSpaceName;
+use crate::scene_description::ColorSpaceName;
 
 /// What an RGB value stands for, which decides how it becomes a spectrum
 /// (pbrt-v4's `SpectrumType`).

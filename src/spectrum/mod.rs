@@ -8,6 +8,7 @@ pub mod data;
 pub mod daylight;
 pub mod densely_sampled;
 pub mod named;
+pub mod parameter;
 pub mod piecewise_linear;
 pub mod rgb_spectra;
 pub mod rgb_to_spectrum;

@@ -264,7 +264,7 @@ mod tests {
     /// Converts each RGB of a 17³ grid over [0, 1]³ (corners, edges and
     /// faces included: the saturated colours) to an albedo spectrum and
     /// back, and reports the per-component errors.
-    fn round_trip(name: crate::scene::description::ColorSpaceName) -> RoundTrip {
+    fn round_trip(name: crate::scene_description::ColorSpaceName) -> RoundTrip {
         use crate::spectrum::SpectrumKind;
         let cs = crate::spectrum::color_space::get(name);
         let steps = 16;
@@ -310,7 +310,7 @@ mod tests {
     /// they stay within 5e-2.
     #[test]
     fn srgb_albedo_round_trips() {
-        let result = round_trip(crate::scene::description::ColorSpaceName::Srgb);
+        let result = round_trip(crate::scene_description::ColorSpaceName::Srgb);
         assert!(result.mean < 3e-4, "mean error {}", result.mean);
         assert!(
             result.large.len() <= 1,
@@ -334,7 +334,7 @@ mod tests {
     #[test]
     #[ignore]
     fn wide_gamut_albedo_round_trips() {
-        use crate::scene::description::ColorSpaceName;
+        use crate::scene_description::ColorSpaceName;
         for (name, mean_bound) in [
             (ColorSpaceName::DciP3, 3e-3),
             (ColorSpaceName::Rec2020, 2e-2),
@@ -352,7 +352,7 @@ mod tests {
     #[test]
     fn unbounded_and_illuminant_rgbs_round_trip() {
         use crate::spectrum::SpectrumKind;
-        let cs = crate::spectrum::color_space::get(crate::scene::description::ColorSpaceName::Srgb);
+        let cs = crate::spectrum::color_space::get(crate::scene_description::ColorSpaceName::Srgb);
         for rgb in [
             Vec3::new(4.0, 2.0, 0.5),
             Vec3::new(0.02, 0.3, 0.1),
@@ -379,7 +379,7 @@ mod tests {
     #[test]
     #[ignore]
     fn fit_time_of_the_srgb_table() {
-        let cs = crate::spectrum::color_space::get(crate::scene::description::ColorSpaceName::Srgb);
+        let cs = crate::spectrum::color_space::get(crate::scene_description::ColorSpaceName::Srgb);
         let problem = FitProblem::new(cs.illuminant_densely_sampled(), cs.xyz_from_rgb.as_dmat3());
         let start = std::time::Instant::now();
         let table = RgbToSpectrumTable::compute(&problem, TABLE_RESOLUTION);

@@ -226,7 +226,7 @@ mod tests {
     use crate::spectrum::sigmoid_polynomial::sigmoid;
 
     fn srgb_problem() -> FitProblem {
-        let cs = crate::spectrum::color_space::get(crate::scene::description::ColorSpaceName::Srgb);
+        let cs = crate::spectrum::color_space::get(crate::scene_description::ColorSpaceName::Srgb);
         FitProblem::new(cs.illuminant_densely_sampled(), cs.xyz_from_rgb.as_dmat3())
     }
 

@@ -13,7 +13,7 @@
 
 use super::TextureEvalContext;
 use crate::error::{scene_error, Result};
-use crate::scene::ParamSet;
+use crate::scene_description::ParamSet;
 use glam::{Mat4, Vec2, Vec3};
 use pbrt_parser::Location;
 use std::f32::consts::PI;

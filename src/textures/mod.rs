@@ -11,10 +11,10 @@ pub mod mapping;
 
 use crate::error::{scene_error, Result};
 use crate::interaction::SurfaceInteraction;
-use crate::scene::description::{ColorSpaceName, Entity, TextureValue};
-use crate::scene::spectrum_param::spectrum_param;
-use crate::scene::ParamSet;
+use crate::scene_description::ParamSet;
+use crate::scene_description::{ColorSpaceName, Entity, TextureValue};
 use crate::spectrum::color_space::SpectrumKind;
+use crate::spectrum::parameter::spectrum_param;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use checkerboard::checkerboard_weight;
 use glam::{Mat4, Vec2, Vec3};

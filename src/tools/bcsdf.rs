@@ -392,7 +392,7 @@ fn spectral_plot(args: &BcsdfArgs) -> Result<(), String> {
 
 /// The linear sRGB colour-matching functions at λ (nm), clipped at 0.
 fn srgb_matching(lambda: f32) -> glam::Vec3 {
-    let srgb = crate::spectrum::color_space::get(crate::scene::description::ColorSpaceName::Srgb);
+    let srgb = crate::spectrum::color_space::get(crate::scene_description::ColorSpaceName::Srgb);
     srgb.to_rgb(glam::Vec3::new(cie_x(lambda), cie_y(lambda), cie_z(lambda)))
         .max(glam::Vec3::ZERO)
 }

@@ -13,7 +13,7 @@
 use super::roots::Triangle;
 use crate::error::{Error, Result};
 use crate::math::Transform;
-use crate::scene::description::{SceneDescription, Shape};
+use crate::scene_description::{SceneDescription, Shape};
 use crate::shapes::mesh::{BilinearPatchMesh, TriangleMesh};
 use crate::shapes::ply::{read_ply, PlyMeshes};
 use glam::Vec3;

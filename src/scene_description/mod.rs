@@ -1,9 +1,20 @@
 //! The scene description: what the scene file says, as plain typed data,
-//! each entity with its transform and file location. Nothing is built yet
-//! (no meshes read, no spectra made): that is `build`'s job.
+//! each entity with its transform and file location, its parameters
+//! ([`params`]) checked against pbrt-v4's ([`schema`]). Nothing is built
+//! yet (no meshes read, no spectra made): that is `scene::build`'s job.
+//!
+//! The layer below the families: cameras, film, filters, lights,
+//! materials, samplers, shapes, spectra and textures read their entities
+//! from here, and `scene` (the builder that writes a description, and the
+//! build that makes the families from it) sits above them all, as
+//! pbrt-v4's `paramdict` sits below `scene.cpp`. Nothing here imports a
+//! family or `scene`.
 
-use super::params::ParamSet;
+pub mod params;
+pub mod schema;
+
 use crate::math::Transform;
+pub use params::ParamSet;
 use pbrt_parser::Location;
 use std::collections::BTreeMap;
 use std::path::PathBuf;

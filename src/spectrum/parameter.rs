@@ -1,8 +1,9 @@
-//! Spectrum-valued parameters (`rgb`, `blackbody`, `spectrum`) to spectra.
+//! Spectrum-valued parameters (`rgb`, `blackbody`, `spectrum`) of a
+//! scene description's entity to spectra (the spectrum family's reading of
+//! `scene_description::params`).
 
-use super::description::ColorSpaceName;
-use super::ParamSet;
 use crate::error::{scene_error, Result};
+use crate::scene_description::{ColorSpaceName, ParamSet};
 use crate::spectrum::color_space::SpectrumKind;
 use crate::spectrum::{
     named_spectrum, read_spectrum_file, BlackbodySpectrum, PiecewiseLinear, Spectrum,

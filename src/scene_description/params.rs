@@ -351,8 +351,13 @@ mod tests {
     fn a_listed_parameter_the_creator_does_not_read_is_reported() {
         let p = params("Shape \"sphere\" \"float radius\" 2\n  \"float zmax\" 0.5");
         let here = p.iter().next().unwrap().location.clone();
-        crate::scene::schema::check(crate::scene::schema::Category::Shape, "sphere", &p, &here)
-            .unwrap();
+        crate::scene_description::schema::check(
+            crate::scene_description::schema::Category::Shape,
+            "sphere",
+            &p,
+            &here,
+        )
+        .unwrap();
         p.float("radius", 1.0).unwrap();
         let e = p
             .report_unused(|| "shape \"sphere\"".into())
