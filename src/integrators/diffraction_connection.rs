@@ -40,7 +40,7 @@ use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use crate::textures::TextureEvalContext;
 use glam::{Vec2, Vec3};
 
-use super::path::RayCounts;
+use super::ray_counts::RayCounts;
 
 /// A non-specular vertex whose light samples are connected through rings:
 /// the path integrator asks it, when the ring hit after it sends its own

@@ -2,5 +2,7 @@
 
 mod diffraction_connection;
 pub mod path;
+pub mod ray_counts;
 
-pub use path::{path_li, RayCounts};
+pub use path::path_li;
+pub use ray_counts::RayCounts;

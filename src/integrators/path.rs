@@ -10,6 +10,7 @@
 //! every bounce where `path` draws it only when roulette applies.
 
 use super::diffraction_connection::{self, ConnectionOrigin};
+use super::ray_counts::RayCounts;
 use crate::bxdfs::{BxDFReflTransFlags, TransportMode, BSDF};
 use crate::cameras::CameraRay;
 use crate::interaction::SurfaceInteraction;
@@ -44,31 +45,6 @@ fn light_context(si: &SurfaceInteraction, ring: bool) -> LightSampleContext {
         n: si.n,
         ns: si.shading.n,
         time: si.time,
-    }
-}
-
-/// Rays traced, by kind (pbrt-v4's `--stats` "regular" and "shadow" ray
-/// intersection tests): what a render's time is spent on, so that two
-/// renders' times can be compared per ray (a material that lets light go
-/// on makes longer paths, not only costlier vertices).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-pub struct RayCounts {
-    /// Closest-hit rays: the camera ray and each bounce's.
-    pub closest_hit: u64,
-    /// Shadow rays towards sampled lights.
-    pub shadow: u64,
-}
-
-impl RayCounts {
-    pub fn total(&self) -> u64 {
-        self.closest_hit + self.shadow
-    }
-}
-
-impl std::ops::AddAssign for RayCounts {
-    fn add_assign(&mut self, other: RayCounts) {
-        self.closest_hit += other.closest_hit;
-        self.shadow += other.shadow;
     }
 }
 

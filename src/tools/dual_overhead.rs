@@ -124,9 +124,9 @@ pub fn section(settings: &Settings) -> Result<String, Error> {
          through the diffracting ring is not absorbed, so paths run longer (the paper's §7 notes the same) — the \
          scene's light transport, not the model's cost per hit. The last column takes that out: each pair's time \
          ratio over its closest-hit ray ratio (median of the pairs).\n",
-        super::report::today(),
-        super::report::commit(),
-        super::report::machine(),
+        super::provenance::today(),
+        super::provenance::commit(),
+        super::provenance::machine(),
         cores.len(),
         rounds as usize * cores.len(),
         settings.spp
@@ -177,7 +177,7 @@ pub fn section(settings: &Settings) -> Result<String, Error> {
 }
 
 fn median(values: Vec<f64>) -> f64 {
-    super::report::median(values).unwrap_or(0.0)
+    super::provenance::median(values).unwrap_or(0.0)
 }
 
 /// A child `rpbrt --stats` render with one thread, on `core` when given.

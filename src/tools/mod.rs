@@ -16,6 +16,7 @@ pub mod mie;
 pub mod mie_compare;
 pub mod peak_memory;
 pub mod plot;
+pub mod provenance;
 pub mod render_scene;
 pub mod report;
 pub mod reproduce;
