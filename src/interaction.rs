@@ -40,7 +40,7 @@ pub struct SurfaceInteraction {
     /// For curves: a direction across the fibre that does not turn with the
     /// view, stable along the strand (orients elliptical fibres; not unit,
     /// and only its part ⟂ the tangent counts); zero for other shapes.
-    pub fiber_reference: Vec3,
+    pub fibre_reference: Vec3,
     /// Index of the primitive hit (into the built scene's primitive list).
     pub primitive: u32,
 }

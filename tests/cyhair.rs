@@ -357,7 +357,7 @@ fn converter_errors_are_located_and_leave_no_file() {
 /// each strand is turned by its own angle, `strand_angle(offset, k)`.
 #[test]
 fn each_strand_of_a_cyhair_file_has_its_own_fibre_frame() {
-    use rpbrt::shapes::curve_frame::strand_angle;
+    use rpbrt::shapes::curve::frame::strand_angle;
     let dir = temp_dir("frames");
     let hair = make_hair(2, 5, false, false, false, 9);
     write_hair(&dir.join("two.hair"), &hair, true);

@@ -235,7 +235,7 @@ fn elliptical_fibres_get_a_view_independent_reference() {
         let (si, _) = built
             .intersect(&Ray::new(origin, direction, 0.0), f32::INFINITY)
             .expect("the ray hits the curve");
-        si.fiber_reference
+        si.fibre_reference
     };
     let elliptical = "Material \"hair\" \"float ellipse_a\" 30 \"float ellipse_b\" 20";
     let front = reference_from(elliptical, Vec3::new(1.5, 0.0, 0.0), Vec3::Z);
@@ -333,7 +333,7 @@ fn random_orientation_differs_per_strand_and_not_per_view() {
         let (si, _) = scene
             .intersect(&Ray::new(origin, direction, 0.0), f32::INFINITY)
             .expect("a hit");
-        si.fiber_reference.normalize()
+        si.fibre_reference.normalize()
     };
     let first_front = reference(Vec3::new(1.5, 0.0, 0.0), Vec3::Z);
     let first_side = reference(Vec3::new(1.5, -3.0, 5.0), Vec3::Y);

@@ -24,15 +24,6 @@ use std::path::{Path, PathBuf};
 /// module names, or folder-relative file paths such as
 /// `src/shapes/curve.rs`), each with why.
 const ALLOWED: &[(&str, &str, &str)] = &[
-    // The curve shape computes a hit's reference across the fibre with
-    // `curve_frame::reference_at`, and the frame reads the curve's
-    // segments: item 6 of issue 29 moves the frame under `curve/` and the
-    // hit's interpolation to the segment, which ends this cycle.
-    (
-        "src/shapes/curve.rs",
-        "src/shapes/curve_frame.rs",
-        "curve_frame moves under curve/ (issue 29, item 6)",
-    ),
     // `rpbrt bcsdf --compare-mie` (issue 30, being written on main while
     // this test came in): bcsdf.rs hands its arguments to
     // mie_compare::run, which reads them as bcsdf's `BcsdfArgs`. Moving

@@ -259,7 +259,7 @@ impl Material {
     }
 
     /// Whether hits need a view-independent direction across the curve
-    /// (`SurfaceInteraction::fiber_reference`): an elliptical fibre of the
+    /// (`SurfaceInteraction::fibre_reference`): an elliptical fibre of the
     /// dual hair model is oriented by it.
     pub fn needs_fibre_frame(&self) -> bool {
         if let Material::ForceDiffuse(inner) = self {
@@ -298,35 +298,36 @@ impl Material {
             return scene_error("material \"normalmap\" is not supported yet", loc);
         }
         p.string("type", "")?;
-        let constant = |v: f32| Some(Spectrum::Constant(v));
         let m = match entity.kind.as_str() {
             "interface" | "" | "none" => Material::Interface,
             "diffuse" => Material::Diffuse {
-                reflectance: tp
-                    .spectrum_texture("reflectance", constant(0.5), SpectrumKind::Albedo)?
-                    .expect("default given"),
+                reflectance: tp.spectrum_texture(
+                    "reflectance",
+                    Spectrum::Constant(0.5),
+                    SpectrumKind::Albedo,
+                )?,
             },
             "diffusetransmission" => Material::DiffuseTransmission {
-                reflectance: tp
-                    .spectrum_texture("reflectance", constant(0.25), SpectrumKind::Albedo)?
-                    .expect("default given"),
-                transmittance: tp
-                    .spectrum_texture("transmittance", constant(0.25), SpectrumKind::Albedo)?
-                    .expect("default given"),
+                reflectance: tp.spectrum_texture(
+                    "reflectance",
+                    Spectrum::Constant(0.25),
+                    SpectrumKind::Albedo,
+                )?,
+                transmittance: tp.spectrum_texture(
+                    "transmittance",
+                    Spectrum::Constant(0.25),
+                    SpectrumKind::Albedo,
+                )?,
                 scale: p.float("scale", 1.0)? as f32,
             },
             "conductor" => {
-                let reflectance = tp.spectrum_texture("reflectance", None, SpectrumKind::Albedo)?;
-                let eta = tp.spectrum_texture(
-                    "eta",
-                    named_spectrum("metal-Cu-eta"),
-                    SpectrumKind::Unbounded,
-                )?;
-                let k = tp.spectrum_texture(
-                    "k",
-                    named_spectrum("metal-Cu-k"),
-                    SpectrumKind::Unbounded,
-                )?;
+                let reflectance = tp.spectrum_texture_opt("reflectance", SpectrumKind::Albedo)?;
+                let eta = tp
+                    .spectrum_texture_opt("eta", SpectrumKind::Unbounded)?
+                    .or_else(|| named_spectrum("metal-Cu-eta").map(SpectrumTexture::Constant));
+                let k = tp
+                    .spectrum_texture_opt("k", SpectrumKind::Unbounded)?
+                    .or_else(|| named_spectrum("metal-Cu-k").map(SpectrumTexture::Constant));
                 let (Some(eta), Some(k)) = (eta, k) else {
                     return scene_error("conductor: the default copper spectra are not available; give \"eta\" and \"k\" or \"reflectance\"", loc);
                 };
@@ -345,12 +346,16 @@ impl Material {
                 eta: eta_param(&tp, "eta")?,
             },
             "coateddiffuse" => Material::CoatedDiffuse {
-                reflectance: tp
-                    .spectrum_texture("reflectance", constant(0.5), SpectrumKind::Albedo)?
-                    .expect("default given"),
-                albedo: tp
-                    .spectrum_texture("albedo", constant(0.0), SpectrumKind::Albedo)?
-                    .expect("default given"),
+                reflectance: tp.spectrum_texture(
+                    "reflectance",
+                    Spectrum::Constant(0.5),
+                    SpectrumKind::Albedo,
+                )?,
+                albedo: tp.spectrum_texture(
+                    "albedo",
+                    Spectrum::Constant(0.0),
+                    SpectrumKind::Albedo,
+                )?,
                 roughness: Roughness::read(&tp, "", 0.0)?,
                 thickness: tp.float_texture("thickness", 0.01)?,
                 g: tp.float_texture("g", 0.0)?,
@@ -359,8 +364,8 @@ impl Material {
                 n_samples: p.int("nsamples", 1)?.max(1) as u32,
             },
             "hair" => {
-                let sigma_a = tp.spectrum_texture("sigma_a", None, SpectrumKind::Unbounded)?;
-                let reflectance = tp.spectrum_texture("reflectance", None, SpectrumKind::Albedo)?;
+                let sigma_a = tp.spectrum_texture_opt("sigma_a", SpectrumKind::Unbounded)?;
+                let reflectance = tp.spectrum_texture_opt("reflectance", SpectrumKind::Albedo)?;
                 let mut eumelanin = tp.float_texture_opt("eumelanin")?;
                 let pheomelanin = tp.float_texture_opt("pheomelanin")?;
                 if sigma_a.is_none()
@@ -527,7 +532,7 @@ impl Material {
                         // The major axis from the strand's stable reference
                         // (the shading normal where a shape has none), in
                         // the local frame's azimuth φ = atan2(z, y).
-                        let r = frame.to_local(si.fiber_reference);
+                        let r = frame.to_local(si.fibre_reference);
                         BxDF::DualHair(
                             DualHairBxDF::new(
                                 base,

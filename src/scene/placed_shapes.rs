@@ -12,7 +12,7 @@ use crate::error::{scene_error, Error, Result};
 use crate::materials::Material;
 use crate::math::Transform;
 use crate::scene_description::{Entity, MaterialRef, SceneDescription, Shape as ShapeEntity};
-use crate::shapes::curve_frame::{strand_angle, FibreFrame};
+use crate::shapes::curve::frame::{strand_angle, FibreFrame};
 use crate::shapes::{create_shapes, Shape, ShapeStorage};
 use crate::textures::{FloatTexture, NamedTextures};
 use pbrt_parser::{Location as FileLoc, Warning};

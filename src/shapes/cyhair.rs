@@ -46,6 +46,7 @@
 //! file, the byte offset and what was expected, at the `filename`
 //! parameter's `file:line:col`.
 
+use super::curve::splines::{catmull_rom_to_bezier, line_to_cubic_bezier};
 use super::curve::{self, CurvePiece, CurveSegment, CurveType};
 use crate::error::{scene_error, unreadable_file, Error, Result, SceneError};
 use crate::math::Transform;
@@ -581,7 +582,6 @@ pub fn for_each_strand(
             .width
             .unwrap_or_else(|| hair.thickness_at(i) as f64 * scale)) as f32
     };
-    let lerp = |t: f64, a: DVec3, b: DVec3| a + (b - a) * t;
     let mut strand = StrandCurves::default();
     let mut first = 0usize;
     for (k, &strand_segments) in hair.segments.iter().enumerate() {
@@ -603,12 +603,10 @@ pub fn for_each_strand(
         for s in 0..n {
             let (p0, p1) = (point(first + s), point(first + s + 1));
             let bez = match conversion.basis {
-                Basis::Polyline => [p0, lerp(1.0 / 3.0, p0, p1), lerp(2.0 / 3.0, p0, p1), p1],
+                Basis::Polyline => line_to_cubic_bezier(p0, p1),
                 Basis::CatmullRom => {
                     let j = s as isize;
-                    let t0 = (p1 - at(j - 1)) * 0.5;
-                    let t1 = (at(j + 2) - p0) * 0.5;
-                    [p0, p0 + t0 / 3.0, p1 - t1 / 3.0, p1]
+                    catmull_rom_to_bezier(at(j - 1), p0, p1, at(j + 2))
                 }
             };
             // Consecutive segments share the end point.

@@ -18,7 +18,6 @@
 
 pub mod bilinear;
 pub mod curve;
-pub mod curve_frame;
 pub mod cyhair;
 pub mod cylinder;
 pub mod disk;
@@ -160,11 +159,11 @@ impl ShapeStorage {
     /// shape one per strand of its file, each begun by a segment with
     /// `strand_start`) its own view-independent frame, `frame_of(k)` for
     /// the shape's k-th strand, for a material that orients the fibre by
-    /// it (`curve_frame`).
+    /// it (`curve::frame`).
     pub fn set_fibre_frames(
         &mut self,
         shapes: &[Shape],
-        frame_of: impl Fn(usize) -> curve_frame::FibreFrame,
+        frame_of: impl Fn(usize) -> curve::frame::FibreFrame,
     ) {
         let mut segments = shapes.iter().filter_map(|shape| match shape {
             Shape::Curve(c) => Some(self.curve_pieces[*c as usize].segment() as usize),
@@ -180,7 +179,7 @@ impl ShapeStorage {
         let mut strand = 0;
         for end in 1..=shape_segments.len() {
             if end == shape_segments.len() || shape_segments[end].strand_start {
-                curve_frame::set_frame(&mut shape_segments[start..end], frame_of(strand));
+                curve::frame::set_frame(&mut shape_segments[start..end], frame_of(strand));
                 strand += 1;
                 start = end;
             }

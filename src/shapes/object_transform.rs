@@ -132,7 +132,7 @@ impl ObjectTransform {
         out.shading.dndv = transform_normal(inverse, object.shading.dndv);
         // A direction across the fibre, as dpdv (the material projects it
         // onto the plane across the fibre, so a shear needs no more).
-        out.fiber_reference = m.transform_vector3(object.fiber_reference);
+        out.fibre_reference = m.transform_vector3(object.fibre_reference);
         out
     }
 }
@@ -233,14 +233,14 @@ mod tests {
         let t = Transform::rotate(std::f64::consts::FRAC_PI_2, DVec3::Z).unwrap();
         let xf = ObjectTransform::new(&t);
         let si = SurfaceInteraction {
-            fiber_reference: Vec3::X,
+            fibre_reference: Vec3::X,
             ..Default::default()
         };
         let out = xf.interaction_to_render(&si);
         assert!(
-            (out.fiber_reference - Vec3::Y).length() < 1e-6,
+            (out.fibre_reference - Vec3::Y).length() < 1e-6,
             "{}",
-            out.fiber_reference
+            out.fibre_reference
         );
     }
 }

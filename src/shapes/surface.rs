@@ -57,7 +57,7 @@ pub fn surface_interaction(
             dndv: point.dndv,
         },
         curve_h: 0.0,
-        fiber_reference: Vec3::ZERO,
+        fibre_reference: Vec3::ZERO,
         primitive: 0,
     }
 }

@@ -240,10 +240,12 @@ impl TextureParams<'_> {
         }
     }
 
-    pub fn spectrum_texture(
+    /// The spectrum texture or constant `name` (a named texture of the
+    /// spectrum `kind`, or an `rgb`, `spectrum` or `blackbody` value), if
+    /// the entity gives it.
+    pub fn spectrum_texture_opt(
         &self,
         name: &str,
-        default: Option<Spectrum>,
         kind: SpectrumKind,
     ) -> Result<Option<SpectrumTexture>> {
         if let Some(p) = self.params.find(
@@ -277,7 +279,20 @@ impl TextureParams<'_> {
             self.color_space,
             self.base_directory,
         )?;
-        Ok(s.or(default).map(SpectrumTexture::Constant))
+        Ok(s.map(SpectrumTexture::Constant))
+    }
+
+    /// The spectrum texture or constant `name`, `default` where the entity
+    /// does not give it.
+    pub fn spectrum_texture(
+        &self,
+        name: &str,
+        default: Spectrum,
+        kind: SpectrumKind,
+    ) -> Result<SpectrumTexture> {
+        Ok(self
+            .spectrum_texture_opt(name, kind)?
+            .unwrap_or(SpectrumTexture::Constant(default)))
     }
 }
 
@@ -316,13 +331,13 @@ pub fn create_texture(
     };
     let result = match (entity.kind.as_str(), value) {
         ("constant", TextureValue::Float) => (Some(tp.float_texture("value", 1.0)?), None),
-        ("constant", TextureValue::Spectrum) => (None, tp.spectrum_texture("value", Some(Spectrum::Constant(1.0)), kind)?),
+        ("constant", TextureValue::Spectrum) => (None, Some(tp.spectrum_texture("value", Spectrum::Constant(1.0), kind)?)),
         ("scale", TextureValue::Float) => (
             Some(FloatTexture::Scale(Box::new(tp.float_texture("tex", 1.0)?), Box::new(tp.float_texture("scale", 1.0)?))),
             None,
         ),
         ("scale", TextureValue::Spectrum) => {
-            let tex = tp.spectrum_texture("tex", Some(Spectrum::Constant(1.0)), kind)?.unwrap_or(SpectrumTexture::Constant(Spectrum::Constant(1.0)));
+            let tex = tp.spectrum_texture("tex", Spectrum::Constant(1.0), kind)?;
             (None, Some(SpectrumTexture::Scale(Box::new(tex), Box::new(tp.float_texture("scale", 1.0)?))))
         }
         ("checkerboard", v) => {
@@ -346,8 +361,8 @@ pub fn create_texture(
                     (
                         None,
                         Some(SpectrumTexture::Checkerboard {
-                            tex1: Box::new(tp.spectrum_texture("tex1", None, kind)?.unwrap_or(one)),
-                            tex2: Box::new(tp.spectrum_texture("tex2", None, kind)?.unwrap_or(zero)),
+                            tex1: Box::new(tp.spectrum_texture_opt("tex1", kind)?.unwrap_or(one)),
+                            tex2: Box::new(tp.spectrum_texture_opt("tex2", kind)?.unwrap_or(zero)),
                             mapping,
                         }),
                     )

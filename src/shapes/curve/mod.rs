@@ -29,12 +29,19 @@
 //! then follows pbrt's definition exactly: inside if that point is within
 //! half the width of the ray, t from its depth, v from the signed distance.
 
+pub mod frame;
+pub mod splines;
+
 use crate::error::{scene_error, Result};
 use crate::interaction::SurfaceInteraction;
 use crate::math::{Bounds3, Ray, Transform};
 use crate::scene_description;
 use glam::{DVec3, Vec2, Vec3};
 use pbrt_parser::Location;
+use splines::{
+    blossom_piece, cubic_bspline_to_bezier, elevate_quadratic_bezier, evaluate_bezier,
+    quadratic_bspline_to_bezier, split_in_half,
+};
 
 /// How the curve surface is oriented.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -59,7 +66,7 @@ pub struct CurveSegment {
     /// transform).
     pub flip_normal: bool,
     /// View-independent direction across the strand at u = 0 and 1
-    /// (see `curve_frame`), set only for curves whose material needs it
+    /// (see [`frame`]), set only for curves whose material needs it
     /// (`fibre_frame`).
     pub reference: [Vec3; 2],
     /// Whether hits carry a view-independent reference direction (an
@@ -107,71 +114,23 @@ pub const MAX_SEGMENTS: usize = (1 << SEGMENT_BITS) - 1;
 /// [`MAX_SEGMENTS`], which no segment has (a scene has fewer).
 const PLACEHOLDER: u32 = u32::MAX;
 
-/// Point and derivative of a cubic Bézier at u (de Casteljau), in 3D or
-/// in a plane.
-pub fn evaluate_bezier<V: BezierPoint>(cp: &[V; 4], u: f32) -> (V, V) {
-    let a = [
-        cp[0].lerp(cp[1], u),
-        cp[1].lerp(cp[2], u),
-        cp[2].lerp(cp[3], u),
-    ];
-    let b = [a[0].lerp(a[1], u), a[1].lerp(a[2], u)];
-    let deriv = if (b[1] - b[0]).length_squared() > 0.0 {
-        (b[1] - b[0]) * 3.0
-    } else {
-        // A degenerate end (repeated control points): use the chord.
-        cp[3] - cp[0]
-    };
-    (b[0].lerp(b[1], u), deriv)
-}
-
-/// What [`evaluate_bezier`] needs of a point: glam's `Vec3` and `Vec2`.
-pub trait BezierPoint:
-    Copy + std::ops::Sub<Output = Self> + std::ops::Mul<f32, Output = Self>
-{
-    fn lerp(self, other: Self, t: f32) -> Self;
-    fn length_squared(self) -> f32;
-}
-
-macro_rules! bezier_point {
-    ($($point:ty),*) => {$(
-        impl BezierPoint for $point {
-            #[inline]
-            fn lerp(self, other: Self, t: f32) -> Self {
-                <$point>::lerp(self, other, t)
-            }
-            #[inline]
-            fn length_squared(self) -> f32 {
-                <$point>::length_squared(self)
-            }
-        }
-    )*};
-}
-
-bezier_point!(Vec2, Vec3);
-
-/// The control points of the sub-curve over [u0, u1] (blossoming).
-pub fn blossom_piece(cp: &[Vec3; 4], u0: f32, u1: f32) -> [Vec3; 4] {
-    let blossom = |u: [f32; 3]| {
-        let a = [
-            cp[0].lerp(cp[1], u[0]),
-            cp[1].lerp(cp[2], u[0]),
-            cp[2].lerp(cp[3], u[0]),
-        ];
-        let b = [a[0].lerp(a[1], u[1]), a[1].lerp(a[2], u[1])];
-        b[0].lerp(b[1], u[2])
-    };
-    [
-        blossom([u0, u0, u0]),
-        blossom([u0, u0, u1]),
-        blossom([u0, u1, u1]),
-        blossom([u1, u1, u1]),
-    ]
-}
-
 impl CurveSegment {
     pub fn width_at(&self, u: f32) -> f32 {
         self.width[0] + (self.width[1] - self.width[0]) * u
+    }
+
+    /// The reference across the fibre at parameter u of a hit: the ribbon
+    /// normal for ribbons, else the frame set at build time
+    /// ([`frame::set_frame`]), interpolated. Neither unit nor exactly ⟂
+    /// the tangent: the material uses only its direction across the fibre
+    /// (its components in the shading frame's plane ⟂ dpdu, normalised
+    /// there), so normalising and orthogonalising here would be done twice.
+    pub fn reference_at(&self, u: f32, ribbon_normal: Vec3) -> Vec3 {
+        if self.kind == CurveType::Ribbon {
+            ribbon_normal
+        } else {
+            self.reference[0].lerp(self.reference[1], u)
+        }
     }
 
     /// The ribbon normal at u (spherical interpolation, as pbrt).
@@ -431,18 +390,6 @@ fn intersect_projected(
     })
 }
 
-/// The two halves of a cubic Bézier (de Casteljau at ½).
-fn split_in_half(c: &[Vec3; 4]) -> ([Vec3; 4], [Vec3; 4]) {
-    let a = [
-        c[0].midpoint(c[1]),
-        c[1].midpoint(c[2]),
-        c[2].midpoint(c[3]),
-    ];
-    let b = [a[0].midpoint(a[1]), a[1].midpoint(a[2])];
-    let m = b[0].midpoint(b[1]);
-    ([c[0], a[0], b[0], m], [m, b[1], a[2], c[3]])
-}
-
 /// A ray's frame: origin, two axes across it and its unit direction,
 /// (ex, ey, dz) right-handed as pbrt's LookAt (the rotation about the ray
 /// does not matter; the handedness fixes the sign of v).
@@ -534,8 +481,8 @@ impl CurveHit {
             dpdu,
             dpdv,
             curve_h: -1.0 + 2.0 * self.v,
-            fiber_reference: if segment.fibre_frame {
-                super::curve_frame::reference_at(segment, self.u, self.n_hit)
+            fibre_reference: if segment.fibre_frame {
+                segment.reference_at(self.u, self.n_hit)
             } else {
                 Vec3::ZERO
             },
@@ -622,7 +569,6 @@ pub fn create_curves(
     let width_scale = width_scale(m);
     let flip_normal = reverse_orientation ^ m.swaps_handedness();
     let to_render = |q: DVec3| m.point(q).as_vec3();
-    let lerp = |t: f64, a: DVec3, b: DVec3| a + (b - a) * t;
     for seg in 0..segments_count {
         let bez: [DVec3; 4] = match (basis.as_str(), degree) {
             ("bezier", 3) => [
@@ -632,28 +578,10 @@ pub fn create_curves(
                 cps[3 * seg + 3],
             ],
             ("bezier", _) => {
-                let (p0, p1, p2) = (cps[2 * seg], cps[2 * seg + 1], cps[2 * seg + 2]);
-                [p0, lerp(2.0 / 3.0, p0, p1), lerp(1.0 / 3.0, p1, p2), p2]
+                elevate_quadratic_bezier([cps[2 * seg], cps[2 * seg + 1], cps[2 * seg + 2]])
             }
-            (_, 3) => {
-                let (p012, p123, p234, p345) = (cps[seg], cps[seg + 1], cps[seg + 2], cps[seg + 3]);
-                let p122 = lerp(2.0 / 3.0, p012, p123);
-                let p223 = lerp(1.0 / 3.0, p123, p234);
-                let p233 = lerp(2.0 / 3.0, p123, p234);
-                let p334 = lerp(1.0 / 3.0, p234, p345);
-                [lerp(0.5, p122, p223), p223, p233, lerp(0.5, p233, p334)]
-            }
-            _ => {
-                let (p01, p12, p23) = (cps[seg], cps[seg + 1], cps[seg + 2]);
-                let p11 = lerp(0.5, p01, p12);
-                let p22 = lerp(0.5, p12, p23);
-                [
-                    p11,
-                    lerp(2.0 / 3.0, p11, p12),
-                    lerp(1.0 / 3.0, p12, p22),
-                    p22,
-                ]
-            }
+            (_, 3) => cubic_bspline_to_bezier([cps[seg], cps[seg + 1], cps[seg + 2], cps[seg + 3]]),
+            _ => quadratic_bspline_to_bezier([cps[seg], cps[seg + 1], cps[seg + 2]]),
         };
         let cp = bez.map(to_render);
         let w = segment_widths(width0, width1, seg, segments_count).map(|w| w * width_scale);

@@ -12,10 +12,11 @@
 //! across segments, so it is continuous and twist-free along the strand.
 //! A strand is a `Shape "curve"`, or one strand of a `cyhair` shape's file
 //! (`CurveSegment::strand_start` marks where each begins).
-//! At a hit it is interpolated; the material takes its part across the
-//! fibre.
+//! At a hit it is interpolated (`CurveSegment::reference_at`); the
+//! material takes its part across the fibre.
 
-use super::curve::{evaluate_bezier, CurveSegment, CurveType};
+use super::splines::evaluate_bezier;
+use super::CurveSegment;
 use crate::math::frame::coordinate_system;
 use glam::Vec3;
 
@@ -126,22 +127,10 @@ fn orthogonal(r: Vec3, t: Vec3) -> Vec3 {
         .unwrap_or_else(|| coordinate_system(t).0)
 }
 
-/// The reference at parameter u of a hit: the ribbon normal for ribbons,
-/// else the transported frame, interpolated. Neither unit nor exactly ⟂
-/// the tangent: the material uses only its direction across the fibre
-/// (its components in the shading frame's plane ⟂ dpdu, normalised
-/// there), so normalising and orthogonalising here would be done twice.
-pub fn reference_at(seg: &CurveSegment, u: f32, ribbon_normal: Vec3) -> Vec3 {
-    if seg.kind == CurveType::Ribbon {
-        ribbon_normal
-    } else {
-        seg.reference[0].lerp(seg.reference[1], u)
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::shapes::curve::CurveType;
 
     fn segment(cp: [Vec3; 4]) -> CurveSegment {
         CurveSegment {
@@ -187,7 +176,7 @@ mod tests {
             // Between the ends the interpolated reference keeps a part
             // across the tangent far from degenerate (the material takes
             // that part's direction), though a segment here turns 46°.
-            let r = reference_at(s, 0.4, Vec3::ZERO);
+            let r = s.reference_at(0.4, Vec3::ZERO);
             let t = evaluate_bezier(&s.cp, 0.4).1.normalize();
             let across = (r - t * t.dot(r)).length();
             assert!(across > 0.9, "{across}");
