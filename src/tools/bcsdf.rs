@@ -9,6 +9,7 @@
 //! 1/(1 + d_diff), the diffraction d_diff/(1 + d_diff). σ_a is the mean of
 //! the melanin's RGB absorption (per mean semi-axis, as the material).
 
+use super::mie_compare::{CompareMieArgs, Fibre};
 use crate::bxdfs::dual_hair::DualHairParams;
 use crate::bxdfs::hair::{trimmed_logistic, wrap_angle, HairBxDF, HairLobes};
 use crate::bxdfs::hair_diffraction::{spectral_integral, ClosedFormLobe, Diffraction};
@@ -118,38 +119,9 @@ pub struct BcsdfArgs {
     /// CIE channel (x̄, ȳ, z̄) beside the fitted logistic, at φ_i = 50°.
     #[arg(long)]
     pub spectral_plot: bool,
-    /// Instead of the maps: the model for a circular fibre against the
-    /// exact Lorenz–Mie solution (`rpbrt mie`), a table of figures per
-    /// diameter and model (and with `--out`, plots); the ray lobes'
-    /// logistic scale defaults to 0.01 there.
-    #[arg(long)]
-    pub compare_mie: bool,
-    /// With `--compare-mie`: fibre diameters, µm.
-    #[arg(long, value_delimiter = ',', default_value = "50,75,100")]
-    pub diameters: Vec<f32>,
-    /// With `--compare-mie`: the models compared, each `logistic`,
-    /// `closedform` or `spectral`, optionally `+polarized`.
-    #[arg(
-        long,
-        value_delimiter = ',',
-        default_value = "logistic,closedform,spectral"
-    )]
-    pub models: Vec<String>,
-    /// With `--compare-mie`: the absorption index κ (complex index η + iκ).
-    #[arg(long, default_value_t = 0.0)]
-    pub kappa: f32,
-    /// With `--compare-mie`: scattering angles on the circle.
-    #[arg(long, default_value_t = 1 << 16)]
-    pub angles: usize,
-    /// With `--compare-mie`: the exact solution's wavelength step, nm
-    /// (its interference ripples fade as the step shrinks: at D = 75 µm
-    /// the L1 figures move by 0.0014 from 1 to 0.25 nm, by 0.0001 from
-    /// 0.25 to 0.1 nm).
-    #[arg(long, default_value_t = 0.25)]
-    pub wavelength_step: f32,
-    /// With `--compare-mie`: a folder for the table and the plots.
-    #[arg(long)]
-    pub out: Option<PathBuf>,
+    /// `--compare-mie` and its options.
+    #[command(flatten)]
+    pub compare: CompareMieArgs,
 }
 
 /// Map columns, in CSV order after φ_i, φ_r.
@@ -402,8 +374,16 @@ pub fn run(args: &BcsdfArgs) -> Result<(), String> {
     if args.spectral_plot {
         return spectral_plot(args);
     }
-    if args.compare_mie {
-        return super::mie_compare::run(args);
+    if args.compare.compare_mie {
+        return super::mie_compare::run(
+            &args.compare,
+            &Fibre {
+                eta: args.eta,
+                theta_i_deg: args.theta_i,
+                d_diff: args.d_diff,
+                ray_scale: args.logistic_scale,
+            },
+        );
     }
     let m = maps(args)?;
     if let Some(path) = &args.csv {
