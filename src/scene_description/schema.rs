@@ -28,6 +28,8 @@ const FT: &[T] = &[T::Float, T::Texture];
 const SP: &[T] = &[T::Rgb, T::Spectrum, T::Blackbody];
 /// A spectrum or a spectrum texture.
 const ST: &[T] = &[T::Rgb, T::Spectrum, T::Blackbody, T::Texture];
+/// A constant float or spectrum (`bilerp`'s corner values).
+const VALUE: &[T] = &[T::Float, T::Rgb, T::Spectrum, T::Blackbody];
 /// Any value a texture or an index of refraction may be.
 const ANY: &[T] = &[T::Float, T::Rgb, T::Spectrum, T::Blackbody, T::Texture];
 
@@ -342,7 +344,12 @@ fn slots(category: Category, kind: &str) -> Option<[&'static [Slot]; 3]> {
             ("wrap", S),
         ],
         (Texture, "ptex") => &[("filename", S), ("encoding", S), ("scale", F)],
-        (Texture, "bilerp") => &[("v00", ANY), ("v01", ANY), ("v10", ANY), ("v11", ANY)],
+        (Texture, "bilerp") => &[
+            ("v00", VALUE),
+            ("v01", VALUE),
+            ("v10", VALUE),
+            ("v11", VALUE),
+        ],
         (Light, "point") => &[("I", SP), ("from", P3), ("power", F)],
         (Light, "spot") => &[
             ("I", SP),

@@ -2,12 +2,27 @@
 //! texture may also be given as a constant value.
 //!
 //! `constant` (`value`, default 1) and `scale` (`tex` × `scale`, both
-//! default 1) are here; `checkerboard` and `imagemap` have their own files,
-//! texture mappings theirs.
+//! default 1) are here; every other texture has its own file (`bilerp`,
+//! `checkerboard`, `directionmix`, `dots`, `fbm`, `imagemap`, `marble`,
+//! `mix`, `windy`, `wrinkled`), as do the 2D and 3D texture mappings and
+//! Perlin noise. Textures that combine others (checkerboard, dots, mix,
+//! directionmix) are generic over [`TextureOf`], so one type serves the
+//! float and the spectrum variant; `fbm`, `wrinkled` and `windy` are
+//! float-only and `marble` spectrum-only, as in pbrt-v4.
 
+pub mod bilerp;
 pub mod checkerboard;
+pub mod direction_mix;
+pub mod dots;
+pub mod fbm;
 pub mod image_map;
 pub mod mapping;
+pub mod mapping_3d;
+pub mod marble;
+pub mod mix;
+pub mod noise;
+pub mod windy;
+pub mod wrinkled;
 
 use crate::error::{scene_error, Result};
 use crate::interaction::SurfaceInteraction;
@@ -16,13 +31,21 @@ use crate::scene_description::{ColorSpaceName, Entity, TextureValue};
 use crate::spectrum::color_space::SpectrumKind;
 use crate::spectrum::parameter::spectrum_param;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
-use checkerboard::checkerboard_weight;
+use bilerp::BilerpTexture;
+use checkerboard::CheckerboardTexture;
+use direction_mix::DirectionMixTexture;
+use dots::DotsTexture;
+use fbm::FbmTexture;
 use glam::{Mat4, Vec2, Vec3};
 pub use image_map::{ImageCache, ImageTexture};
 pub use mapping::TextureMapping2D;
+use marble::MarbleTexture;
+use mix::MixTexture;
 use pbrt_parser::ParamType;
 use std::collections::HashMap;
 use std::path::Path;
+use windy::WindyTexture;
+use wrinkled::WrinkledTexture;
 
 /// Where a texture is evaluated, and how that point moves from one pixel
 /// to the next (pbrt-v4's `TextureEvalContext`; zero differentials mean
@@ -97,12 +120,15 @@ pub enum FloatTexture {
     Constant(f32),
     /// `tex × scale`.
     Scale(Box<FloatTexture>, Box<FloatTexture>),
-    Checkerboard {
-        tex1: Box<FloatTexture>,
-        tex2: Box<FloatTexture>,
-        mapping: TextureMapping2D,
-    },
+    Checkerboard(CheckerboardTexture<FloatTexture>),
     Image(Box<ImageTexture>),
+    Bilerp(Box<BilerpTexture<f32>>),
+    Dots(Box<DotsTexture<FloatTexture>>),
+    Mix(MixTexture<FloatTexture>),
+    DirectionMix(DirectionMixTexture<FloatTexture>),
+    Fbm(FbmTexture),
+    Wrinkled(WrinkledTexture),
+    Windy(WindyTexture),
 }
 
 /// A spectrum-valued texture (made for one spectrum kind).
@@ -110,12 +136,68 @@ pub enum FloatTexture {
 pub enum SpectrumTexture {
     Constant(Spectrum),
     Scale(Box<SpectrumTexture>, Box<FloatTexture>),
-    Checkerboard {
-        tex1: Box<SpectrumTexture>,
-        tex2: Box<SpectrumTexture>,
-        mapping: TextureMapping2D,
-    },
+    Checkerboard(CheckerboardTexture<SpectrumTexture>),
     Image(Box<ImageTexture>, SpectrumKind),
+    Bilerp(Box<BilerpTexture<Spectrum>>),
+    Dots(Box<DotsTexture<SpectrumTexture>>),
+    Mix(MixTexture<SpectrumTexture>),
+    DirectionMix(DirectionMixTexture<SpectrumTexture>),
+    Marble(Box<MarbleTexture>),
+}
+
+/// What float and spectrum textures share, so that the textures combining
+/// others are written once for both.
+pub trait TextureOf: Sized {
+    /// The texture given for parameter `name` (a texture or a constant),
+    /// else the constant `default`; spectra are read as `kind`.
+    fn parameter(tp: &TextureParams, name: &str, default: f32, kind: SpectrumKind) -> Result<Self>;
+}
+
+impl TextureOf for FloatTexture {
+    fn parameter(tp: &TextureParams, name: &str, default: f32, _: SpectrumKind) -> Result<Self> {
+        tp.float_texture(name, default)
+    }
+}
+
+impl TextureOf for SpectrumTexture {
+    fn parameter(tp: &TextureParams, name: &str, default: f32, kind: SpectrumKind) -> Result<Self> {
+        tp.spectrum_texture(name, Spectrum::Constant(default), kind)
+    }
+}
+
+/// wa·a + wb·b, evaluating each texture only where its weight is non-zero
+/// (as pbrt-v4: it saves lookups, and an unused side's infinite or NaN
+/// value stays out).
+fn blend_float(
+    (wa, wb): (f32, f32),
+    a: &FloatTexture,
+    b: &FloatTexture,
+    ctx: &TextureEvalContext,
+) -> f32 {
+    let va = if wa != 0.0 { a.evaluate(ctx) } else { 0.0 };
+    let vb = if wb != 0.0 { b.evaluate(ctx) } else { 0.0 };
+    wa * va + wb * vb
+}
+
+/// [`blend_float`] for spectrum textures.
+fn blend_spectrum(
+    (wa, wb): (f32, f32),
+    a: &SpectrumTexture,
+    b: &SpectrumTexture,
+    ctx: &TextureEvalContext,
+    lambda: &SampledWavelengths,
+) -> SampledSpectrum {
+    let va = if wa != 0.0 {
+        a.evaluate(ctx, lambda)
+    } else {
+        SampledSpectrum::ZERO
+    };
+    let vb = if wb != 0.0 {
+        b.evaluate(ctx, lambda)
+    } else {
+        SampledSpectrum::ZERO
+    };
+    va * wa + vb * wb
 }
 
 impl FloatTexture {
@@ -123,17 +205,15 @@ impl FloatTexture {
         match self {
             FloatTexture::Constant(v) => *v,
             FloatTexture::Scale(t, s) => t.evaluate(ctx) * s.evaluate(ctx),
-            FloatTexture::Checkerboard {
-                tex1,
-                tex2,
-                mapping,
-            } => {
-                let w = checkerboard_weight(ctx, mapping);
-                let t1 = if w != 1.0 { tex1.evaluate(ctx) } else { 0.0 };
-                let t2 = if w != 0.0 { tex2.evaluate(ctx) } else { 0.0 };
-                (1.0 - w) * t1 + w * t2
-            }
+            FloatTexture::Checkerboard(c) => blend_float(c.weights(ctx), &c.tex1, &c.tex2, ctx),
             FloatTexture::Image(image) => image.evaluate_float(ctx),
+            FloatTexture::Bilerp(b) => b.evaluate(ctx),
+            FloatTexture::Dots(d) => d.select(ctx).evaluate(ctx),
+            FloatTexture::Mix(m) => blend_float(m.weights(ctx), &m.tex1, &m.tex2, ctx),
+            FloatTexture::DirectionMix(m) => blend_float(m.weights(ctx), &m.tex1, &m.tex2, ctx),
+            FloatTexture::Fbm(t) => t.evaluate(ctx),
+            FloatTexture::Wrinkled(t) => t.evaluate(ctx),
+            FloatTexture::Windy(t) => t.evaluate(ctx),
         }
     }
 
@@ -155,25 +235,25 @@ impl SpectrumTexture {
         match self {
             SpectrumTexture::Constant(s) => s.sample(lambda),
             SpectrumTexture::Scale(t, s) => t.evaluate(ctx, lambda) * s.evaluate(ctx),
-            SpectrumTexture::Checkerboard {
-                tex1,
-                tex2,
-                mapping,
-            } => {
-                let w = checkerboard_weight(ctx, mapping);
-                let t1 = if w != 1.0 {
-                    tex1.evaluate(ctx, lambda)
-                } else {
-                    SampledSpectrum::ZERO
-                };
-                let t2 = if w != 0.0 {
-                    tex2.evaluate(ctx, lambda)
-                } else {
-                    SampledSpectrum::ZERO
-                };
-                t1 * (1.0 - w) + t2 * w
+            SpectrumTexture::Checkerboard(c) => {
+                blend_spectrum(c.weights(ctx), &c.tex1, &c.tex2, ctx, lambda)
             }
             SpectrumTexture::Image(image, kind) => image.evaluate_spectrum(ctx, *kind, lambda),
+            SpectrumTexture::Bilerp(b) => b
+                .weights(ctx)
+                .iter()
+                .zip(&b.values)
+                .fold(SampledSpectrum::ZERO, |sum, (w, v)| {
+                    sum + v.sample(lambda) * *w
+                }),
+            SpectrumTexture::Dots(d) => d.select(ctx).evaluate(ctx, lambda),
+            SpectrumTexture::Mix(m) => {
+                blend_spectrum(m.weights(ctx), &m.tex1, &m.tex2, ctx, lambda)
+            }
+            SpectrumTexture::DirectionMix(m) => {
+                blend_spectrum(m.weights(ctx), &m.tex1, &m.tex2, ctx, lambda)
+            }
+            SpectrumTexture::Marble(m) => m.evaluate(ctx, lambda),
         }
     }
 }
@@ -340,37 +420,36 @@ pub fn create_texture(
             let tex = tp.spectrum_texture("tex", Spectrum::Constant(1.0), kind)?;
             (None, Some(SpectrumTexture::Scale(Box::new(tex), Box::new(tp.float_texture("scale", 1.0)?))))
         }
-        ("checkerboard", v) => {
-            let dimension = entity.params.int("dimension", 2)?;
-            if dimension != 2 {
-                return scene_error("3D checkerboard textures are not supported yet", loc);
-            }
-            let mapping = TextureMapping2D::create(&entity.params, render_from_texture, loc)?;
-            match v {
-                TextureValue::Float => (
-                    Some(FloatTexture::Checkerboard {
-                        tex1: Box::new(tp.float_texture("tex1", 1.0)?),
-                        tex2: Box::new(tp.float_texture("tex2", 0.0)?),
-                        mapping,
-                    }),
-                    None,
-                ),
-                TextureValue::Spectrum => {
-                    let one = SpectrumTexture::Constant(Spectrum::Constant(1.0));
-                    let zero = SpectrumTexture::Constant(Spectrum::Constant(0.0));
-                    (
-                        None,
-                        Some(SpectrumTexture::Checkerboard {
-                            tex1: Box::new(tp.spectrum_texture_opt("tex1", kind)?.unwrap_or(one)),
-                            tex2: Box::new(tp.spectrum_texture_opt("tex2", kind)?.unwrap_or(zero)),
-                            mapping,
-                        }),
-                    )
-                }
-            }
+        ("checkerboard", TextureValue::Float) => (Some(FloatTexture::Checkerboard(CheckerboardTexture::create(&tp, render_from_texture, kind, loc)?)), None),
+        ("checkerboard", TextureValue::Spectrum) => (None, Some(SpectrumTexture::Checkerboard(CheckerboardTexture::create(&tp, render_from_texture, kind, loc)?))),
+        ("dots", TextureValue::Float) => (Some(FloatTexture::Dots(Box::new(DotsTexture::create(&tp, render_from_texture, kind, loc)?))), None),
+        ("dots", TextureValue::Spectrum) => (None, Some(SpectrumTexture::Dots(Box::new(DotsTexture::create(&tp, render_from_texture, kind, loc)?)))),
+        ("mix", TextureValue::Float) => (Some(FloatTexture::Mix(MixTexture::create(&tp, kind)?)), None),
+        ("mix", TextureValue::Spectrum) => (None, Some(SpectrumTexture::Mix(MixTexture::create(&tp, kind)?))),
+        ("directionmix", TextureValue::Float) => (Some(FloatTexture::DirectionMix(DirectionMixTexture::create(&tp, render_from_texture, kind, loc)?)), None),
+        ("directionmix", TextureValue::Spectrum) => (None, Some(SpectrumTexture::DirectionMix(DirectionMixTexture::create(&tp, render_from_texture, kind, loc)?))),
+        ("bilerp", TextureValue::Float) => {
+            let value = |name: &str, default: f32| -> Result<f32> { Ok(entity.params.float(name, default as f64)? as f32) };
+            (Some(FloatTexture::Bilerp(Box::new(BilerpTexture::create(&entity.params, render_from_texture, loc, value)?))), None)
+        }
+        ("bilerp", TextureValue::Spectrum) => {
+            let value = |name: &str, default: f32| -> Result<Spectrum> {
+                Ok(spectrum_param(&entity.params, name, kind, entity.color_space, base_directory)?.unwrap_or(Spectrum::Constant(default)))
+            };
+            (None, Some(SpectrumTexture::Bilerp(Box::new(BilerpTexture::create(&entity.params, render_from_texture, loc, value)?))))
+        }
+        ("fbm", TextureValue::Float) => (Some(FloatTexture::Fbm(FbmTexture::create(&entity.params, render_from_texture, loc)?)), None),
+        ("wrinkled", TextureValue::Float) => (Some(FloatTexture::Wrinkled(WrinkledTexture::create(&entity.params, render_from_texture, loc)?)), None),
+        ("windy", TextureValue::Float) => (Some(FloatTexture::Windy(WindyTexture::create(render_from_texture))), None),
+        ("marble", TextureValue::Spectrum) => (None, Some(SpectrumTexture::Marble(Box::new(MarbleTexture::create(&entity.params, render_from_texture, loc)?)))),
+        (kind @ ("fbm" | "wrinkled" | "windy"), TextureValue::Spectrum) => {
+            return scene_error(format!("\"{kind}\" is a float texture (pbrt-v4 has no spectrum \"{kind}\")"), loc)
+        }
+        ("marble", TextureValue::Float) => {
+            return scene_error("\"marble\" is a spectrum texture (pbrt-v4 has no float \"marble\")", loc)
         }
         (other, _) => {
-            return scene_error(format!("texture \"{other}\" is not supported yet (supported: constant, scale, checkerboard, imagemap)"), loc)
+            return scene_error(format!("texture \"{other}\" is not supported yet (supported: constant, scale, checkerboard, imagemap, bilerp, dots, mix, directionmix, fbm, wrinkled, windy, marble)"), loc)
         }
     };
     entity
@@ -403,5 +482,210 @@ mod tests {
         let flat = SurfaceInteraction::default();
         let ctx = TextureEvalContext::with_differentials(&flat, Vec3::X, Vec3::Y);
         assert_eq!((ctx.dudx, ctx.dvdy), (0.0, 0.0));
+    }
+
+    /// The named textures of a scene given as text (after `WorldBegin`),
+    /// created as the renderer does, with the error of the first that fails.
+    fn scene_textures(world: &str) -> Result<NamedTextures> {
+        let text = format!("Camera \"perspective\"\nWorldBegin\n{world}");
+        let loaded = crate::scene::load_text(Path::new("t.pbrt"), &text)?;
+        let mut textures = NamedTextures::default();
+        for t in &loaded.scene.textures {
+            let render_from_texture = t.world_from_texture.to_mat4();
+            if let Some((f, s)) = create_texture(
+                &t.entity,
+                t.value,
+                &mut textures,
+                render_from_texture,
+                Path::new("."),
+                SpectrumKind::Albedo,
+            )? {
+                if let Some(f) = f {
+                    textures.float.insert(t.name.clone(), f);
+                }
+                if let Some(s) = s {
+                    textures
+                        .spectrum
+                        .insert((t.name.clone(), kind_key(SpectrumKind::Albedo)), s);
+                }
+            }
+        }
+        Ok(textures)
+    }
+
+    fn float_at(textures: &NamedTextures, name: &str, ctx: &TextureEvalContext) -> f32 {
+        textures.float[name].evaluate(ctx)
+    }
+
+    fn at_uv(u: f32, v: f32) -> TextureEvalContext {
+        TextureEvalContext {
+            uv: Vec2::new(u, v),
+            n: Vec3::Z,
+            ..Default::default()
+        }
+    }
+
+    #[test]
+    fn mix_blends_by_amount_with_pbrt_defaults() {
+        let t = scene_textures(
+            "Texture \"ramp\" \"float\" \"bilerp\"\n\
+             Texture \"m\" \"float\" \"mix\" \"float tex1\" 2 \"float tex2\" 6 \"texture amount\" \"ramp\"\n\
+             Texture \"d\" \"float\" \"mix\"\n\
+             Texture \"s\" \"spectrum\" \"mix\" \"rgb tex1\" [0.2 0.2 0.2] \"float amount\" 0.25",
+        )
+        .unwrap();
+        // bilerp's defaults (0, 0, 1, 1) make amount = v.
+        assert_eq!(float_at(&t, "m", &at_uv(0.7, 0.0)), 2.0);
+        assert_eq!(float_at(&t, "m", &at_uv(0.7, 1.0)), 6.0);
+        assert_eq!(float_at(&t, "m", &at_uv(0.2, 0.25)), 3.0);
+        // tex1 0, tex2 1, amount ½.
+        assert_eq!(float_at(&t, "d", &at_uv(0.3, 0.3)), 0.5);
+        // 0.75·(0.2 reflectance) + 0.25·(constant 1).
+        let lambda = SampledWavelengths::sample_visible(0.3);
+        let s = t.spectrum[&("s".to_string(), 0)].evaluate(&at_uv(0.0, 0.0), &lambda);
+        let grey = Spectrum::Constant(1.0);
+        for i in 0..4 {
+            let expected = 0.75 * 0.2 + 0.25 * grey.sample(&lambda)[i];
+            assert!((s[i] - expected).abs() < 0.01, "{} vs {expected}", s[i]);
+        }
+    }
+
+    #[test]
+    fn directionmix_weights_by_the_normal_along_dir() {
+        let t = scene_textures(
+            "Texture \"d\" \"float\" \"directionmix\" \"float tex1\" 10 \"float tex2\" 20 \"vector3 dir\" [0 0 2]\n\
+             Rotate 90 1 0 0\n\
+             Texture \"r\" \"float\" \"directionmix\" \"float tex1\" 10 \"float tex2\" 20",
+        )
+        .unwrap();
+        let with_normal = |n: Vec3| TextureEvalContext {
+            n: n.normalize(),
+            ..Default::default()
+        };
+        assert_eq!(float_at(&t, "d", &with_normal(Vec3::Z)), 10.0);
+        assert_eq!(float_at(&t, "d", &with_normal(Vec3::NEG_Z)), 10.0);
+        assert_eq!(float_at(&t, "d", &with_normal(Vec3::X)), 20.0);
+        // |n·dir| = cos 60° = ½.
+        let n = Vec3::new(3f32.sqrt(), 0.0, 1.0);
+        assert!((float_at(&t, "d", &with_normal(n)) - 15.0).abs() < 1e-5);
+        // The default dir (0, 1, 0), in the texture's coordinate system:
+        // rotated 90° about x, it is render-space +z.
+        assert!((float_at(&t, "r", &with_normal(Vec3::Z)) - 10.0).abs() < 1e-5);
+        assert!((float_at(&t, "r", &with_normal(Vec3::Y)) - 20.0).abs() < 1e-5);
+    }
+
+    #[test]
+    fn bilerp_reads_its_corner_values() {
+        let t = scene_textures(
+            "Texture \"b\" \"float\" \"bilerp\" \"float v00\" 1 \"float v10\" 2 \"float v01\" 3 \"float v11\" 4 \"float uscale\" 2",
+        )
+        .unwrap();
+        // s = 2u.
+        assert_eq!(float_at(&t, "b", &at_uv(0.0, 0.0)), 1.0);
+        assert_eq!(float_at(&t, "b", &at_uv(0.5, 0.0)), 2.0);
+        assert_eq!(float_at(&t, "b", &at_uv(0.25, 0.5)), 2.5);
+        assert_eq!(float_at(&t, "b", &at_uv(0.5, 1.0)), 4.0);
+    }
+
+    /// pbrt-v4 shows `outside` in the dots and `inside` between them.
+    #[test]
+    fn dots_show_the_values_as_pbrt_v4_does() {
+        let t = scene_textures(
+            "Texture \"d\" \"float\" \"dots\" \"float inside\" 5 \"float outside\" 7\n\
+             Texture \"default\" \"float\" \"dots\"",
+        )
+        .unwrap();
+        let mut seen = (false, false);
+        for i in 0..40 {
+            let (u, v) = (i as f32 * 0.37, i as f32 * 0.61);
+            let in_dot = dots::inside_polka_dot(Vec2::new(u, v));
+            let value = float_at(&t, "d", &at_uv(u, v));
+            assert_eq!(value, if in_dot { 7.0 } else { 5.0 });
+            let default = float_at(&t, "default", &at_uv(u, v));
+            assert_eq!(default, if in_dot { 0.0 } else { 1.0 });
+            if in_dot {
+                seen.0 = true;
+            } else {
+                seen.1 = true;
+            }
+        }
+        assert!(seen.0 && seen.1);
+    }
+
+    /// A 3D checkerboard in the coordinate system of its directive.
+    #[test]
+    fn solid_checkerboard_from_a_scene() {
+        let t = scene_textures(
+            "Scale 0.5 0.5 0.5\n\
+             Texture \"c\" \"float\" \"checkerboard\" \"integer dimension\" 3 \"float tex1\" 3 \"float tex2\" 4",
+        )
+        .unwrap();
+        let at = |p: Vec3| TextureEvalContext {
+            p,
+            ..Default::default()
+        };
+        // Texture-space cells are half a unit wide in render space.
+        assert_eq!(float_at(&t, "c", &at(Vec3::new(0.25, 0.25, 0.25))), 3.0);
+        assert_eq!(float_at(&t, "c", &at(Vec3::new(0.75, 0.25, 0.25))), 4.0);
+        assert_eq!(float_at(&t, "c", &at(Vec3::new(0.75, 0.75, 0.25))), 3.0);
+        assert_eq!(float_at(&t, "c", &at(Vec3::new(-0.25, 0.25, 0.25))), 4.0);
+    }
+
+    #[test]
+    fn noise_textures_are_created_with_their_kinds() {
+        let t = scene_textures(
+            "Texture \"f\" \"float\" \"fbm\" \"integer octaves\" 4 \"float roughness\" 0.7\n\
+             Texture \"w\" \"float\" \"wrinkled\"\n\
+             Texture \"y\" \"float\" \"windy\"\n\
+             Texture \"m\" \"spectrum\" \"marble\" \"float scale\" 3 \"float variation\" 0.5",
+        )
+        .unwrap();
+        assert!(matches!(&t.float["f"], FloatTexture::Fbm(f) if f.octaves == 4 && f.omega == 0.7));
+        assert!(
+            matches!(&t.float["w"], FloatTexture::Wrinkled(w) if w.octaves == 8 && w.omega == 0.5)
+        );
+        assert!(matches!(&t.float["y"], FloatTexture::Windy(_)));
+        assert!(matches!(
+            &t.spectrum[&("m".to_string(), 0)],
+            SpectrumTexture::Marble(m) if m.scale == 3.0 && m.variation == 0.5 && m.octaves == 8
+        ));
+    }
+
+    /// Bad values, the wrong kind of value, and parameters a texture does
+    /// not have are errors at the texture's or the parameter's file:line:col.
+    #[test]
+    fn bad_textures_are_located_errors() {
+        for (text, message) in [
+            ("Texture \"f\" \"spectrum\" \"fbm\"", "float texture"),
+            ("Texture \"f\" \"float\" \"marble\"", "spectrum texture"),
+            (
+                "Texture \"f\" \"float\" \"checkerboard\" \"integer dimension\" 4",
+                "dimension",
+            ),
+            (
+                "Texture \"f\" \"float\" \"fbm\" \"integer octaves\" -2",
+                "octaves",
+            ),
+            (
+                "Texture \"f\" \"float\" \"wrinkled\" \"float uscale\" 2",
+                "uscale",
+            ),
+            (
+                "Texture \"f\" \"float\" \"directionmix\" \"vector3 dir\" [0 0 0]",
+                "dir",
+            ),
+            (
+                "Texture \"f\" \"float\" \"bilerp\" \"texture v00\" \"x\"",
+                "v00",
+            ),
+            (
+                "Texture \"f\" \"float\" \"dots\" \"string mapping\" \"cubic\"",
+                "cubic",
+            ),
+        ] {
+            let err = scene_textures(text).err().expect(text).to_string();
+            assert!(err.contains("t.pbrt:3:"), "{text}: {err}");
+            assert!(err.contains(message), "{text}: {err}");
+        }
     }
 }
