@@ -1,20 +1,30 @@
 //! Cameras: film positions to rays in render space.
 //!
+//! `perspective`, `orthographic` and `spherical` each have their own file;
+//! the parameters the projective ones share (shutter, thin lens, screen
+//! window) are read here.
+//!
 //! Render space is pbrt-v4's default "cameraworld": world axes, origin at the
 //! camera, which keeps coordinates small where the rays are.
 
 pub mod differentials;
+pub mod orthographic;
 pub mod perspective;
+pub mod spherical;
 pub mod transform;
 
+pub use orthographic::OrthographicCamera;
 pub use perspective::PerspectiveCamera;
+pub use spherical::SphericalCamera;
 pub use transform::CameraTransform;
 
 use crate::error::{scene_error, Result};
 use crate::math::Ray;
 use crate::scene_description;
+use crate::scene_description::ParamSet;
 use crate::spectrum::SampledWavelengths;
 use glam::{IVec2, Vec2, Vec3};
+use pbrt_parser::Location;
 
 /// Where on the film and lens, and when, a camera ray starts.
 #[derive(Clone, Copy, Debug, Default)]
@@ -40,6 +50,77 @@ pub struct CameraRay {
 
 pub enum Camera {
     Perspective(PerspectiveCamera),
+    Orthographic(OrthographicCamera),
+    Spherical(SphericalCamera),
+}
+
+/// `shutteropen`, `shutterclose` (default 0, 1; swapped if reversed, as
+/// pbrt-v4 does after a warning).
+pub(crate) fn shutter_interval(params: &ParamSet) -> Result<(f32, f32)> {
+    let open = params.float("shutteropen", 0.0)? as f32;
+    let close = params.float("shutterclose", 1.0)? as f32;
+    Ok(if close < open {
+        (close, open)
+    } else {
+        (open, close)
+    })
+}
+
+/// `lensradius` (default 0: a pinhole) and `focaldistance` (default 10⁶).
+/// A lens needs a positive, finite distance to focus at.
+pub(crate) fn thin_lens(params: &ParamSet, location: &Location) -> Result<(f32, f32)> {
+    let lens_radius = params.float("lensradius", 0.0)? as f32;
+    let focal_distance = params.float("focaldistance", 1e6)? as f32;
+    if !lens_radius.is_finite() {
+        return scene_error(
+            format!("\"lensradius\" must be finite, not {lens_radius}"),
+            location,
+        );
+    }
+    if lens_radius > 0.0 && !(focal_distance > 0.0 && focal_distance.is_finite()) {
+        return scene_error(
+            format!("\"focaldistance\" must be positive with a lens, not {focal_distance}"),
+            location,
+        );
+    }
+    Ok((lens_radius, focal_distance))
+}
+
+/// The screen window, xmin xmax ymin ymax: `screenwindow` if given, else
+/// [−a, a] × [−1, 1] for a frame aspect ratio a > 1 (`frameaspectratio`,
+/// default the film's), [−1, 1] × [−1/a, 1/a] otherwise.
+pub(crate) fn screen_window(
+    params: &ParamSet,
+    full_resolution: IVec2,
+    location: &Location,
+) -> Result<[f32; 4]> {
+    let frame = params.float(
+        "frameaspectratio",
+        full_resolution.x as f64 / full_resolution.y as f64,
+    )? as f32;
+    let mut window = if frame > 1.0 {
+        [-frame, frame, -1.0, 1.0]
+    } else {
+        [-1.0, 1.0, -1.0 / frame, 1.0 / frame]
+    };
+    let sw = params.floats("screenwindow")?;
+    match sw.len() {
+        0 => {}
+        4 => window = [sw[0] as f32, sw[1] as f32, sw[2] as f32, sw[3] as f32],
+        n => {
+            return scene_error(
+                format!("\"screenwindow\" needs 4 values, not {n}"),
+                location,
+            )
+        }
+    }
+    if window.iter().any(|v| !v.is_finite()) || window[0] == window[1] || window[2] == window[3] {
+        return scene_error(
+            format!("the screen window {window:?} is empty or not finite"),
+            location,
+        );
+    }
+    Ok(window)
 }
 
 /// How much of a pixel a camera ray's footprint spans: max(1/8, 1/√spp),
@@ -64,8 +145,18 @@ impl Camera {
                 transform,
                 full_resolution,
             )?)),
+            "orthographic" => Ok(Camera::Orthographic(OrthographicCamera::create(
+                entity,
+                transform,
+                full_resolution,
+            )?)),
+            "spherical" => Ok(Camera::Spherical(SphericalCamera::create(
+                entity,
+                transform,
+                full_resolution,
+            )?)),
             other => scene_error(
-                format!("camera \"{other}\" is not supported yet (supported: perspective)"),
+                format!("camera \"{other}\" is not supported yet (supported: perspective, orthographic, spherical)"),
                 &entity.location.0,
             ),
         }
@@ -77,6 +168,8 @@ impl Camera {
     pub fn with_pixel_jitter(mut self, jitter: bool) -> Camera {
         match &mut self {
             Camera::Perspective(c) => c.pixel_jitter = jitter,
+            Camera::Orthographic(c) => c.pixel_jitter = jitter,
+            Camera::Spherical(c) => c.pixel_jitter = jitter,
         }
         self
     }
@@ -84,6 +177,8 @@ impl Camera {
     fn pixel_jitter(&self) -> bool {
         match self {
             Camera::Perspective(c) => c.pixel_jitter,
+            Camera::Orthographic(c) => c.pixel_jitter,
+            Camera::Spherical(c) => c.pixel_jitter,
         }
     }
 
@@ -94,6 +189,8 @@ impl Camera {
     ) -> Option<CameraRay> {
         match self {
             Camera::Perspective(c) => c.generate_ray(sample),
+            Camera::Orthographic(c) => c.generate_ray(sample),
+            Camera::Spherical(c) => c.generate_ray(sample),
         }
     }
 
@@ -102,6 +199,8 @@ impl Camera {
     pub fn uses_lens(&self) -> bool {
         match self {
             Camera::Perspective(c) => c.lens_radius > 0.0,
+            Camera::Orthographic(c) => c.lens_radius > 0.0,
+            Camera::Spherical(_) => false,
         }
     }
 
@@ -109,12 +208,12 @@ impl Camera {
     /// for a render of `samples_per_pixel` (see [`differentials`]).
     pub fn approximate_dp_dxy(&self, p: Vec3, n: Vec3, samples_per_pixel: u32) -> (Vec3, Vec3) {
         let scale = differential_scale(samples_per_pixel, self.pixel_jitter());
-        match self {
-            Camera::Perspective(c) => {
-                c.min_differentials
-                    .approximate_dp_dxy(&c.transform, p, n, scale)
-            }
-        }
+        let (minimum, transform) = match self {
+            Camera::Perspective(c) => (&c.min_differentials, &c.transform),
+            Camera::Orthographic(c) => (&c.min_differentials, &c.transform),
+            Camera::Spherical(c) => (&c.min_differentials, &c.transform),
+        };
+        minimum.approximate_dp_dxy(transform, p, n, scale)
     }
 
     /// (∂p/∂x, ∂p/∂y) at the first hit `p` (normal `n`) of a camera ray,
@@ -144,6 +243,8 @@ impl Camera {
     pub fn transform(&self) -> &CameraTransform {
         match self {
             Camera::Perspective(c) => &c.transform,
+            Camera::Orthographic(c) => &c.transform,
+            Camera::Spherical(c) => &c.transform,
         }
     }
 
@@ -151,6 +252,8 @@ impl Camera {
     pub fn shutter(&self) -> (f32, f32) {
         match self {
             Camera::Perspective(c) => (c.shutter_open, c.shutter_close),
+            Camera::Orthographic(c) => (c.shutter_open, c.shutter_close),
+            Camera::Spherical(c) => (c.shutter_open, c.shutter_close),
         }
     }
 }

@@ -10,7 +10,7 @@
 //! | `shutteropen`, `shutterclose` | float | 0, 1 | shutter interval |
 
 use super::differentials::{MinimumDifferentials, RayDifferentials, RayWithNeighbours};
-use super::{CameraRay, CameraSample, CameraTransform};
+use super::{screen_window, shutter_interval, thin_lens, CameraRay, CameraSample, CameraTransform};
 use crate::error::{scene_error, Result};
 use crate::math::sampling::sample_uniform_disk_concentric;
 use crate::math::Ray;
@@ -44,13 +44,8 @@ impl PerspectiveCamera {
     ) -> Result<Self> {
         let p = &entity.params;
         let loc = &entity.location.0;
-        let mut shutter_open = p.float("shutteropen", 0.0)? as f32;
-        let mut shutter_close = p.float("shutterclose", 1.0)? as f32;
-        if shutter_close < shutter_open {
-            std::mem::swap(&mut shutter_open, &mut shutter_close);
-        }
-        let lens_radius = p.float("lensradius", 0.0)? as f32;
-        let focal_distance = p.float("focaldistance", 1e6)? as f32;
+        let (shutter_open, shutter_close) = shutter_interval(p)?;
+        let (lens_radius, focal_distance) = thin_lens(p, loc)?;
         let fov = p.float("fov", 90.0)? as f32;
         if !(fov > 0.0 && fov < 180.0) {
             return scene_error(
@@ -58,21 +53,7 @@ impl PerspectiveCamera {
                 loc,
             );
         }
-        let frame = p.float(
-            "frameaspectratio",
-            full_resolution.x as f64 / full_resolution.y as f64,
-        )? as f32;
-        let mut window = if frame > 1.0 {
-            [-frame, frame, -1.0, 1.0]
-        } else {
-            [-1.0, 1.0, -1.0 / frame, 1.0 / frame]
-        };
-        let sw = p.floats("screenwindow")?;
-        match sw.len() {
-            0 => {}
-            4 => window = [sw[0] as f32, sw[1] as f32, sw[2] as f32, sw[3] as f32],
-            n => return scene_error(format!("\"screenwindow\" needs 4 values, not {n}"), loc),
-        }
+        let window = screen_window(p, full_resolution, loc)?;
         p.report_unused(|| "camera \"perspective\"".into())?;
         let res = full_resolution.as_vec2();
         let screen_origin = Vec2::new(window[0], window[3]);
