@@ -1,6 +1,9 @@
 //! Lights from the scene description.
 
-use super::{DiffuseAreaLight, DistantLight, Light, PointLight, SpotLight, UniformInfiniteLight};
+use super::{
+    DiffuseAreaLight, DistantLight, GoniometricLight, Light, PointLight, ProjectionLight,
+    SpotLight, UniformInfiniteLight,
+};
 use crate::error::{image_file_error, scene_error, Result};
 use crate::math::Transform;
 use crate::scene_description::{self, Entity};
@@ -8,7 +11,7 @@ use crate::shapes::{Shape, ShapeStorage};
 use crate::spectrum::color_space::SpectrumKind;
 use crate::spectrum::parameter::spectrum_param;
 use crate::spectrum::{spectrum_to_photometric as photometric, Spectrum};
-use glam::{DVec3, Vec3};
+use glam::{DMat4, DVec3, DVec4, Mat3, Vec3};
 use std::f32::consts::PI;
 use std::path::Path;
 
@@ -72,6 +75,69 @@ pub fn create_light(
                 cos_falloff_end: cos_end,
             })
         }
+        "goniometric" => {
+            let (intensity, mut scale) = emission(e, "I", base)?;
+            let (image, resolution) = goniometric_image(light_image(e, "goniometric light", base)?)?;
+            let light = GoniometricLight {
+                position: point(DVec3::ZERO),
+                // pbrt-v4 composes the light's transform with a y/z swap
+                // (its own inverse), so looking up a render-space
+                // direction applies the inverse transform, then the swap.
+                image_from_render: Mat3::from_mat4((swap_y_z() * render_from_light.inverse).as_mat4()),
+                intensity,
+                scale: 1.0,
+                image,
+                resolution,
+            };
+            let power = p.float("power", -1.0)? as f32;
+            if power > 0.0 {
+                scale *= power / (4.0 * PI * light.image_mean());
+            }
+            Light::Goniometric(GoniometricLight { scale, ..light })
+        }
+        "projection" => {
+            let fov = p.float("fov", 90.0)? as f32;
+            if !(fov > 0.0 && fov < 180.0) {
+                return scene_error(format!("projection light: \"fov\" {fov} is not between 0 and 180 degrees"), loc);
+            }
+            let image = light_image(e, "projection light", base)?;
+            let LightImage { image, filename_at, .. } = image;
+            let Some(rgb_image) = image.to_linear().select_channels(&["R", "G", "B"]) else {
+                return scene_error(
+                    "projection light: the image has no R, G and B channels",
+                    &filename_at,
+                );
+            };
+            let (width, height) = (rgb_image.width() as usize, rgb_image.height() as usize);
+            let rgb: Vec<[f32; 3]> = rgb_image.data().chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+            // Images carry no colour space here: linear sRGB (pbrt-v4's
+            // default when the file names none).
+            let color_space = crate::spectrum::color_space::get(crate::scene_description::ColorSpaceName::Srgb);
+            // pbrt-v4 composes the light's transform with a flip of y (its
+            // own inverse) so the image's top row projects upwards.
+            let flip_y = DMat4::from_diagonal(DVec4::new(1.0, -1.0, 1.0, 1.0));
+            let light_from_render = Mat3::from_mat4((flip_y * render_from_light.inverse).as_mat4());
+            let Some(axis) = vector(DVec3::Z).try_normalize() else {
+                return scene_error("projection light: the transform collapses the projection axis", loc);
+            };
+            let scale = p.float("scale", 1.0)? as f32 / photometric(&color_space.illuminant);
+            let mut light = ProjectionLight::new(
+                point(DVec3::ZERO),
+                axis,
+                light_from_render,
+                rgb,
+                width,
+                height,
+                color_space,
+                scale,
+                fov,
+            );
+            let power = p.float("power", -1.0)? as f32;
+            if power > 0.0 {
+                light.scale *= power / light.luminance_power();
+            }
+            Light::Projection(light)
+        }
         "distant" => {
             let (radiance, mut scale) = emission(e, "L", base)?;
             let from = p.point3("from", DVec3::ZERO)?;
@@ -133,7 +199,7 @@ pub fn create_light(
         }
         other => {
             return scene_error(
-                format!("light \"{other}\" is not supported yet (supported: point, spot, distant, infinite)"),
+                format!("light \"{other}\" is not supported yet (supported: point, spot, goniometric, projection, distant, infinite)"),
                 loc,
             )
         }
@@ -182,4 +248,88 @@ pub fn create_area_light(
         two_sided,
         area,
     })
+}
+
+/// pbrt-v4's swap of a goniometric light's y and z axes.
+fn swap_y_z() -> DMat4 {
+    DMat4::from_cols(DVec4::X, DVec4::Z, DVec4::Y, DVec4::W)
+}
+
+/// A light's image as read, with where its `filename` was given.
+struct LightImage {
+    image: crate::image::Image,
+    filename: String,
+    filename_at: pbrt_parser::Location,
+}
+
+/// Reads the image a light's `filename` names: a missing parameter, an
+/// unreadable file and non-finite pixels (pbrt-v4 refuses those as light
+/// sources) are errors located at the scene.
+fn light_image(entity: &Entity, what: &str, base: &Path) -> Result<LightImage> {
+    let Some((filename, filename_at)) = entity.params.string_at("filename")? else {
+        return scene_error(
+            format!("{what}: \"filename\" is required"),
+            &entity.location.0,
+        );
+    };
+    let path = pbrt_parser::resolve_path(base, &filename);
+    let image =
+        crate::image::Image::read(&path).map_err(|e| image_file_error(what, e, &filename_at))?;
+    if image.first_non_finite().is_some() {
+        return scene_error(
+            format!("{what}: \"{filename}\" has infinite or not-a-number pixels, unsuitable for a light"),
+            &filename_at,
+        );
+    }
+    Ok(LightImage {
+        image,
+        filename,
+        filename_at,
+    })
+}
+
+/// A goniometric light's square greyscale image: its `Y` channel, or the
+/// average of R, G and B stored back at the file's precision (pbrt-v4
+/// builds a one-channel image of the file's pixel format and encoding).
+fn goniometric_image(light_image: LightImage) -> Result<(Vec<f32>, usize)> {
+    let LightImage {
+        image,
+        filename,
+        filename_at,
+    } = light_image;
+    if image.width() != image.height() {
+        return scene_error(
+            format!(
+                "goniometric light: \"{filename}\" is {}×{}, not square: it is unlikely to be an equal-area map",
+                image.width(),
+                image.height()
+            ),
+            &filename_at,
+        );
+    }
+    let (format, encoding) = (image.format(), image.encoding());
+    let linear = image.to_linear();
+    let rgb = linear.select_channels(&["R", "G", "B"]);
+    let y = linear.select_channels(&["Y"]);
+    let values = match (rgb, y) {
+        (Some(_), Some(_)) => {
+            return scene_error(
+                format!("goniometric light: \"{filename}\" has both R, G, B and Y channels"),
+                &filename_at,
+            )
+        }
+        (Some(rgb), None) => rgb
+            .data()
+            .chunks_exact(3)
+            .map(|c| format.round_trip_linear((c[0] + c[1] + c[2]) / 3.0, encoding))
+            .collect(),
+        (None, Some(y)) => y.into_data(),
+        (None, None) => {
+            return scene_error(
+                format!("goniometric light: \"{filename}\" has neither R, G, B nor Y channels"),
+                &filename_at,
+            )
+        }
+    };
+    Ok((values, image.width() as usize))
 }

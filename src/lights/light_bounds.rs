@@ -263,6 +263,26 @@ pub fn light_bounds(light: &Light, shapes: &ShapeStorage) -> Option<LightBounds>
                 two_sided: false,
             })
         }
+        // GoniometricLight::Bounds: an isotropic point whose φ is the
+        // total power with the spectrum's maximum.
+        Light::Goniometric(l) => Some(LightBounds {
+            bounds: Bounds3::from_point(l.position),
+            w: Vec3::Z,
+            phi: 4.0 * PI * l.scale * l.intensity.max_value() * l.image_mean(),
+            cos_theta_o: PI.cos(),
+            cos_theta_e: cos_half_pi(),
+            two_sided: false,
+        }),
+        // ProjectionLight::Bounds: the axis, emission out to the frustum's
+        // corner, and pbrt-v4's φ (the image's mean largest channel).
+        Light::Projection(l) => Some(LightBounds {
+            bounds: Bounds3::from_point(l.position),
+            w: l.axis,
+            phi: l.bounds_phi(),
+            cos_theta_o: 1.0,
+            cos_theta_e: l.cos_total_width(),
+            two_sided: false,
+        }),
         // DiffuseAreaLight::Bounds: φ = π · area · scale · max L (not
         // doubled when two-sided: the importance accounts for both sides),
         // the shape's normal cone, emission over the hemisphere.

@@ -5,9 +5,11 @@ pub mod bvh_sampler;
 pub mod create;
 pub mod diffuse_area;
 pub mod distant;
+pub mod goniometric;
 pub mod image_infinite;
 pub mod light_bounds;
 pub mod point;
+pub mod projection;
 pub mod sampler;
 pub mod spot;
 pub mod uniform_infinite;
@@ -15,8 +17,10 @@ pub mod uniform_infinite;
 pub use create::{create_area_light, create_light};
 pub use diffuse_area::DiffuseAreaLight;
 pub use distant::DistantLight;
+pub use goniometric::GoniometricLight;
 pub use image_infinite::ImageInfiniteLight;
 pub use point::PointLight;
+pub use projection::ProjectionLight;
 pub use sampler::LightSampler;
 pub use spot::SpotLight;
 pub use uniform_infinite::UniformInfiniteLight;
@@ -95,6 +99,8 @@ pub enum LightKind {
 pub enum Light {
     Point(PointLight),
     Spot(SpotLight),
+    Goniometric(GoniometricLight),
+    Projection(ProjectionLight),
     Distant(DistantLight),
     UniformInfinite(UniformInfiniteLight),
     ImageInfinite(ImageInfiniteLight),
@@ -104,7 +110,9 @@ pub enum Light {
 impl Light {
     pub fn kind(&self) -> LightKind {
         match self {
-            Light::Point(_) | Light::Spot(_) => LightKind::DeltaPosition,
+            Light::Point(_) | Light::Spot(_) | Light::Goniometric(_) | Light::Projection(_) => {
+                LightKind::DeltaPosition
+            }
             Light::Distant(_) => LightKind::DeltaDirection,
             Light::UniformInfinite(_) | Light::ImageInfinite(_) => LightKind::Infinite,
             Light::DiffuseArea(_) => LightKind::Area,
@@ -125,6 +133,8 @@ impl Light {
         match self {
             Light::Point(l) => l.sample_li(ctx, lambda),
             Light::Spot(l) => l.sample_li(ctx, lambda),
+            Light::Goniometric(l) => l.sample_li(ctx, lambda),
+            Light::Projection(l) => l.sample_li(ctx, lambda),
             Light::Distant(l) => l.sample_li(ctx, lambda),
             Light::UniformInfinite(l) => l.sample_li(ctx, u, lambda, allow_incomplete_pdf),
             Light::ImageInfinite(l) => l.sample_li(ctx, u, allow_incomplete_pdf),
@@ -150,7 +160,11 @@ impl Light {
         allow_incomplete_pdf: bool,
     ) -> f32 {
         match self {
-            Light::Point(_) | Light::Spot(_) | Light::Distant(_) => 0.0,
+            Light::Point(_)
+            | Light::Spot(_)
+            | Light::Goniometric(_)
+            | Light::Projection(_)
+            | Light::Distant(_) => 0.0,
             Light::UniformInfinite(l) => l.pdf_li(allow_incomplete_pdf),
             Light::ImageInfinite(l) => l.pdf_li(wi, allow_incomplete_pdf),
             Light::DiffuseArea(l) => l.pdf_li(ctx, wi, shapes),
@@ -171,6 +185,8 @@ impl Light {
         match self {
             Light::Point(l) => l.phi(lambda),
             Light::Spot(l) => l.phi(lambda),
+            Light::Goniometric(l) => l.phi(lambda),
+            Light::Projection(l) => l.phi(lambda),
             Light::Distant(l) => l.phi(lambda),
             Light::UniformInfinite(l) => l.phi(lambda),
             Light::ImageInfinite(l) => l.phi(lambda),

@@ -360,7 +360,7 @@ fn slots(category: Category, kind: &str) -> Option<[&'static [Slot]; 3]> {
             ("power", F),
         ],
         (Light, "goniometric") => &[("I", SP), ("filename", S), ("power", F)],
-        (Light, "projection") => &[("I", SP), ("fov", F), ("filename", S), ("power", F)],
+        (Light, "projection") => &[("fov", F), ("filename", S), ("power", F)],
         (Light, "distant") => &[("L", SP), ("from", P3), ("to", P3), ("illuminance", F)],
         (Light, "infinite") => &[
             ("L", SP),
