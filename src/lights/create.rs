@@ -90,8 +90,11 @@ pub fn create_light(
                 resolution,
             };
             let power = p.float("power", -1.0)? as f32;
-            if power > 0.0 {
-                scale *= power / (4.0 * PI * light.image_mean());
+            let k_e = 4.0 * PI * light.image_mean();
+            // A black map emits nothing whatever the scale (pbrt-v4 would
+            // divide by zero here).
+            if power > 0.0 && k_e > 0.0 {
+                scale *= power / k_e;
             }
             Light::Goniometric(GoniometricLight { scale, ..light })
         }
@@ -133,8 +136,11 @@ pub fn create_light(
                 fov,
             );
             let power = p.float("power", -1.0)? as f32;
-            if power > 0.0 {
-                light.scale *= power / light.luminance_power();
+            let k_e = light.luminance_power();
+            // A black image emits nothing whatever the scale (pbrt-v4
+            // would divide by zero here).
+            if power > 0.0 && k_e > 0.0 {
+                light.scale *= power / k_e;
             }
             Light::Projection(light)
         }
