@@ -15,7 +15,7 @@ use rpbrt::bxdfs::dual_hair::{DualHairBxDF, DualHairParams};
 use rpbrt::bxdfs::hair::{CircularHairBxDF, HairBxDF};
 use rpbrt::bxdfs::hair_diffraction::Diffraction;
 use rpbrt::bxdfs::hair_ellipse::{Ellipse, InternalFresnel, Optics, Variant};
-use rpbrt::bxdfs::{BxDF, BxDFReflTransFlags, TransportMode};
+use rpbrt::bxdfs::{BxDF, BxDFInterface, BxDFReflTransFlags, TransportMode};
 use rpbrt::spectrum::SampledSpectrum;
 use std::hint::black_box;
 

@@ -2,7 +2,7 @@
 //! the local shading frame and back.
 
 use super::hair::Longitudinal;
-use super::{BSDFSample, BxDF, BxDFFlags, BxDFReflTransFlags, TransportMode};
+use super::{BSDFSample, BxDF, BxDFFlags, BxDFInterface, BxDFReflTransFlags, TransportMode};
 use crate::math::Frame;
 use crate::spectrum::SampledSpectrum;
 use glam::{Vec2, Vec3};

@@ -4,7 +4,7 @@
 use super::fresnel::fr_complex_spectrum;
 use super::geometry::{abs_cos_theta, face_forward, reflect, same_hemisphere};
 use super::microfacet::TrowbridgeReitzDistribution;
-use super::{BSDFSample, BxDFFlags, BxDFReflTransFlags, TransportMode};
+use super::{BSDFSample, BxDFFlags, BxDFInterface, BxDFReflTransFlags, TransportMode};
 use crate::spectrum::SampledSpectrum;
 use glam::{Vec2, Vec3};
 
@@ -33,8 +33,10 @@ impl ConductorBxDF {
     pub fn distribution(&self) -> TrowbridgeReitzDistribution {
         self.distribution
     }
+}
 
-    pub fn flags(&self) -> BxDFFlags {
+impl BxDFInterface for ConductorBxDF {
+    fn flags(&self) -> BxDFFlags {
         if self.distribution.effectively_smooth() {
             BxDFFlags::SPECULAR_REFLECTION
         } else {
@@ -44,7 +46,7 @@ impl ConductorBxDF {
 
     /// The Torrance–Sparrow BRDF D(ωm) F G / (4 |cos θo| |cos θi|); zero for
     /// a smooth conductor (a delta lobe has no finite value).
-    pub fn f(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> SampledSpectrum {
+    fn f(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> SampledSpectrum {
         if !same_hemisphere(wo, wi) || self.distribution.effectively_smooth() {
             return SampledSpectrum::ZERO;
         }
@@ -67,7 +69,7 @@ impl ConductorBxDF {
     /// Smooth: the mirror direction with probability 1. Rough: a visible
     /// microfacet normal, reflected about; samples that end up below the
     /// surface are rejected (that energy is lost, as in pbrt-v4).
-    pub fn sample_f(
+    fn sample_f(
         &self,
         wo: Vec3,
         _uc: f32,
@@ -106,7 +108,7 @@ impl ConductorBxDF {
         Some(BSDFSample::new(f, wi, pdf, BxDFFlags::GLOSSY_REFLECTION))
     }
 
-    pub fn pdf(
+    fn pdf(
         &self,
         wo: Vec3,
         wi: Vec3,
@@ -127,7 +129,7 @@ impl ConductorBxDF {
         self.distribution.pdf(wo, wm) / (4.0 * wo.dot(wm).abs())
     }
 
-    pub fn regularize(&mut self) {
+    fn regularize(&mut self) {
         self.distribution.regularize();
     }
 }

@@ -4,7 +4,7 @@
 use super::fresnel::fr_dielectric;
 use super::geometry::{abs_cos_theta, cos_theta, face_forward, reflect, refract, same_hemisphere};
 use super::microfacet::TrowbridgeReitzDistribution;
-use super::{BSDFSample, BxDFFlags, BxDFReflTransFlags, TransportMode};
+use super::{BSDFSample, BxDFFlags, BxDFInterface, BxDFReflTransFlags, TransportMode};
 use crate::math::sqr;
 use crate::spectrum::SampledSpectrum;
 use glam::{Vec2, Vec3};
@@ -36,20 +36,6 @@ impl DielectricBxDF {
         self.eta == 1.0 || self.distribution.effectively_smooth()
     }
 
-    pub fn flags(&self) -> BxDFFlags {
-        let sides = if self.eta == 1.0 {
-            BxDFFlags::TRANSMISSION
-        } else {
-            BxDFFlags::REFLECTION | BxDFFlags::TRANSMISSION
-        };
-        let lobe = if self.distribution.effectively_smooth() {
-            BxDFFlags::SPECULAR
-        } else {
-            BxDFFlags::GLOSSY
-        };
-        sides | lobe
-    }
-
     /// Lobe probabilities from the Fresnel reflectance, restricted to the
     /// requested hemispheres; `None` if nothing may be sampled.
     fn lobe_probabilities(
@@ -70,21 +56,6 @@ impl DielectricBxDF {
             None
         } else {
             Some((pr, pt))
-        }
-    }
-
-    pub fn sample_f(
-        &self,
-        wo: Vec3,
-        uc: f32,
-        u: Vec2,
-        mode: TransportMode,
-        sample_flags: BxDFReflTransFlags,
-    ) -> Option<BSDFSample> {
-        if self.is_specular() {
-            self.sample_specular(wo, uc, mode, sample_flags)
-        } else {
-            self.sample_rough(wo, uc, u, mode, sample_flags)
         }
     }
 
@@ -204,8 +175,39 @@ impl DielectricBxDF {
         }
         Some((wm, etap, reflect))
     }
+}
 
-    pub fn f(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> SampledSpectrum {
+impl BxDFInterface for DielectricBxDF {
+    fn flags(&self) -> BxDFFlags {
+        let sides = if self.eta == 1.0 {
+            BxDFFlags::TRANSMISSION
+        } else {
+            BxDFFlags::REFLECTION | BxDFFlags::TRANSMISSION
+        };
+        let lobe = if self.distribution.effectively_smooth() {
+            BxDFFlags::SPECULAR
+        } else {
+            BxDFFlags::GLOSSY
+        };
+        sides | lobe
+    }
+
+    fn sample_f(
+        &self,
+        wo: Vec3,
+        uc: f32,
+        u: Vec2,
+        mode: TransportMode,
+        sample_flags: BxDFReflTransFlags,
+    ) -> Option<BSDFSample> {
+        if self.is_specular() {
+            self.sample_specular(wo, uc, mode, sample_flags)
+        } else {
+            self.sample_rough(wo, uc, u, mode, sample_flags)
+        }
+    }
+
+    fn f(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> SampledSpectrum {
         if self.is_specular() {
             return SampledSpectrum::ZERO;
         }
@@ -229,7 +231,7 @@ impl DielectricBxDF {
         }
     }
 
-    pub fn pdf(
+    fn pdf(
         &self,
         wo: Vec3,
         wi: Vec3,
@@ -255,7 +257,7 @@ impl DielectricBxDF {
         }
     }
 
-    pub fn regularize(&mut self) {
+    fn regularize(&mut self) {
         self.distribution.regularize();
     }
 }

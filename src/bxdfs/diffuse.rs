@@ -2,7 +2,7 @@
 //! hemisphere it arrived in.
 
 use super::geometry::{abs_cos_theta, same_hemisphere};
-use super::{BSDFSample, BxDFFlags, BxDFReflTransFlags, TransportMode};
+use super::{BSDFSample, BxDFFlags, BxDFInterface, BxDFReflTransFlags, TransportMode};
 use crate::math::sampling::{cosine_hemisphere_pdf, sample_cosine_hemisphere};
 use crate::spectrum::SampledSpectrum;
 use glam::{Vec2, Vec3};
@@ -23,8 +23,10 @@ impl DiffuseBxDF {
     pub fn reflectance(&self) -> SampledSpectrum {
         self.reflectance
     }
+}
 
-    pub fn f(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> SampledSpectrum {
+impl BxDFInterface for DiffuseBxDF {
+    fn f(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> SampledSpectrum {
         if !same_hemisphere(wo, wi) {
             return SampledSpectrum::ZERO;
         }
@@ -32,7 +34,7 @@ impl DiffuseBxDF {
     }
 
     /// Cosine-weighted sampling, which makes f·cos/pdf = R exactly.
-    pub fn sample_f(
+    fn sample_f(
         &self,
         wo: Vec3,
         _uc: f32,
@@ -56,7 +58,7 @@ impl DiffuseBxDF {
         ))
     }
 
-    pub fn pdf(
+    fn pdf(
         &self,
         wo: Vec3,
         wi: Vec3,
@@ -71,7 +73,7 @@ impl DiffuseBxDF {
 
     /// A black diffuse surface scatters nothing (flags unset), which lets
     /// integrators skip it.
-    pub fn flags(&self) -> BxDFFlags {
+    fn flags(&self) -> BxDFFlags {
         if self.reflectance.is_nonzero() {
             BxDFFlags::DIFFUSE_REFLECTION
         } else {
@@ -80,7 +82,7 @@ impl DiffuseBxDF {
     }
 
     /// Nothing to widen: the lobe is already as broad as it gets.
-    pub fn regularize(&mut self) {}
+    fn regularize(&mut self) {}
 }
 
 #[cfg(test)]

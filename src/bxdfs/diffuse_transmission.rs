@@ -2,7 +2,7 @@
 //! (paper, leaves) that scatters diffusely to both sides.
 
 use super::geometry::{abs_cos_theta, same_hemisphere};
-use super::{BSDFSample, BxDFFlags, BxDFReflTransFlags, TransportMode};
+use super::{BSDFSample, BxDFFlags, BxDFInterface, BxDFReflTransFlags, TransportMode};
 use crate::math::sampling::{cosine_hemisphere_pdf, sample_cosine_hemisphere};
 use crate::spectrum::SampledSpectrum;
 use glam::{Vec2, Vec3};
@@ -23,14 +23,6 @@ impl DiffuseTransmissionBxDF {
         }
     }
 
-    pub fn f(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> SampledSpectrum {
-        if same_hemisphere(wo, wi) {
-            self.reflectance * FRAC_1_PI
-        } else {
-            self.transmittance * FRAC_1_PI
-        }
-    }
-
     /// Probabilities of choosing reflection and transmission: proportional
     /// to the largest component of R and T, restricted to the requested
     /// hemispheres.
@@ -48,8 +40,18 @@ impl DiffuseTransmissionBxDF {
         }
         Some((pr / (pr + pt), pt / (pr + pt)))
     }
+}
 
-    pub fn sample_f(
+impl BxDFInterface for DiffuseTransmissionBxDF {
+    fn f(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> SampledSpectrum {
+        if same_hemisphere(wo, wi) {
+            self.reflectance * FRAC_1_PI
+        } else {
+            self.transmittance * FRAC_1_PI
+        }
+    }
+
+    fn sample_f(
         &self,
         wo: Vec3,
         uc: f32,
@@ -84,7 +86,7 @@ impl DiffuseTransmissionBxDF {
         }
     }
 
-    pub fn pdf(
+    fn pdf(
         &self,
         wo: Vec3,
         wi: Vec3,
@@ -98,7 +100,7 @@ impl DiffuseTransmissionBxDF {
         lobe * cosine_hemisphere_pdf(abs_cos_theta(wi))
     }
 
-    pub fn flags(&self) -> BxDFFlags {
+    fn flags(&self) -> BxDFFlags {
         let mut flags = BxDFFlags::UNSET;
         if self.reflectance.is_nonzero() {
             flags |= BxDFFlags::DIFFUSE_REFLECTION;
@@ -109,7 +111,7 @@ impl DiffuseTransmissionBxDF {
         flags
     }
 
-    pub fn regularize(&mut self) {}
+    fn regularize(&mut self) {}
 }
 
 #[cfg(test)]

@@ -25,8 +25,8 @@
 //! frame that does not turn with the view ([`axis_from_reference`]).
 
 use super::hair::{
-    choose_lobe, divide_by_cos, sample_longitudinal, wrap_angle, HairBxDF, HairSample,
-    Longitudinal, TrimmedLogistic, P_MAX,
+    choose_lobe, divide_by_cos, pdf_within, sample_f_within, sample_longitudinal, wrap_angle,
+    HairBxDF, HairSample, Longitudinal, TrimmedLogistic, P_MAX,
 };
 use super::hair_diffraction::{
     eq36_scale, fitted_scale, sample_spectral, spectral_density, spectral_pdf, ClosedFormLobe,
@@ -35,6 +35,7 @@ use super::hair_diffraction::{
 use super::hair_ellipse::{
     Attenuation, Ellipse, InternalFresnel, Optics, Residual, Variant, LOBES,
 };
+use super::{BSDFSample, BxDFFlags, BxDFInterface, BxDFReflTransFlags, TransportMode};
 use crate::math::fast_atan2::fast_atan2;
 use crate::math::{safe_sqrt, sqr};
 use crate::spectrum::{SampledSpectrum, N_SPECTRUM_SAMPLES};
@@ -504,18 +505,40 @@ impl DualHairBxDF {
     }
 }
 
-impl super::hair::HairScattering for DualHairBxDF {
-    fn value(&self, wo: Vec3, wi: Vec3) -> SampledSpectrum {
-        DualHairBxDF::value(self, wo, wi)
+impl BxDFInterface for DualHairBxDF {
+    fn f(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> SampledSpectrum {
+        self.value(wo, wi)
     }
-    fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<HairSample> {
-        DualHairBxDF::sample(self, wo, uc, u)
+
+    fn sample_f(
+        &self,
+        wo: Vec3,
+        uc: f32,
+        u: Vec2,
+        _mode: TransportMode,
+        sample_flags: BxDFReflTransFlags,
+    ) -> Option<BSDFSample> {
+        sample_f_within(self.flags(), sample_flags, || self.sample(wo, uc, u))
     }
-    fn density(&self, wo: Vec3, wi: Vec3) -> f32 {
-        DualHairBxDF::density(self, wo, wi)
+
+    fn pdf(
+        &self,
+        wo: Vec3,
+        wi: Vec3,
+        _mode: TransportMode,
+        sample_flags: BxDFReflTransFlags,
+    ) -> f32 {
+        pdf_within(self.flags(), sample_flags, || self.density(wo, wi))
     }
-    fn value_and_density(&self, wo: Vec3, wi: Vec3) -> (SampledSpectrum, f32) {
-        DualHairBxDF::value_and_density(self, wo, wi)
+
+    fn f_and_pdf(
+        &self,
+        wo: Vec3,
+        wi: Vec3,
+        _mode: TransportMode,
+    ) -> (SampledSpectrum, Option<f32>) {
+        let (f, pdf) = self.value_and_density(wo, wi);
+        (f, Some(pdf))
     }
 
     /// pbrt's hair calls itself glossy reflection, so a light is sampled
@@ -524,13 +547,16 @@ impl super::hair::HairScattering for DualHairBxDF {
     /// direction to a light by up to width / distance, more than the
     /// ring's N_diff is wide. The ring, which lets light through, says so
     /// and is sampled from the hit itself.
-    fn flags(&self) -> super::BxDFFlags {
+    fn flags(&self) -> BxDFFlags {
         if self.in_ring() {
-            super::BxDFFlags::GLOSSY_REFLECTION | super::BxDFFlags::GLOSSY_TRANSMISSION
+            BxDFFlags::GLOSSY_REFLECTION | BxDFFlags::GLOSSY_TRANSMISSION
         } else {
-            super::BxDFFlags::GLOSSY_REFLECTION
+            BxDFFlags::GLOSSY_REFLECTION
         }
     }
+
+    /// Nothing to roughen: no hair lobe is a delta.
+    fn regularize(&mut self) {}
 }
 
 #[cfg(test)]

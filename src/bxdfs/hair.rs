@@ -9,6 +9,7 @@
 //! `h` ∈ [−1, 1] is where the ray crossed the fibre's width.
 
 use super::fresnel::fr_dielectric;
+use super::{BSDFSample, BxDFFlags, BxDFInterface, BxDFReflTransFlags, TransportMode};
 use crate::math::{safe_asin, safe_sqrt, sqr};
 use crate::spectrum::SampledSpectrum;
 use glam::{Vec2, Vec3};
@@ -793,54 +794,32 @@ mod tests {
     }
 }
 
-/// The common BxDF interface (see [`super::BxDF`]) of both hair models,
-/// written once over their value, sample and density. pbrt-v4 flags hair as
-/// glossy reflection, though it also transmits (TT).
-pub trait HairScattering {
-    fn value(&self, wo: Vec3, wi: Vec3) -> SampledSpectrum;
-    fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<HairSample>;
-    fn density(&self, wo: Vec3, wi: Vec3) -> f32;
-    /// [`Self::value`] and [`Self::density`] at once (bit for bit the
-    /// same; they share their lobes' terms).
-    fn value_and_density(&self, wo: Vec3, wi: Vec3) -> (SampledSpectrum, f32);
-
-    fn flags(&self) -> super::BxDFFlags {
-        super::BxDFFlags::GLOSSY_REFLECTION
+/// [`BxDFInterface::sample_f`] of a hair model (either) from its own
+/// `sample`: nothing when the requested hemispheres exclude the model's
+/// `flags`. Hair ignores the transport mode: its lobes are reciprocal.
+pub(super) fn sample_f_within(
+    flags: BxDFFlags,
+    sample_flags: BxDFReflTransFlags,
+    sample: impl FnOnce() -> Option<HairSample>,
+) -> Option<BSDFSample> {
+    if !flags.allows(sample_flags) {
+        return None;
     }
+    let s = sample()?;
+    Some(BSDFSample::new(s.f, s.wi, s.pdf, flags))
+}
 
-    fn regularize(&mut self) {}
-
-    fn f(&self, wo: Vec3, wi: Vec3, _mode: super::TransportMode) -> SampledSpectrum {
-        self.value(wo, wi)
+/// [`BxDFInterface::pdf`] of a hair model (either) from its own `density`:
+/// zero when the requested hemispheres exclude the model's `flags`.
+pub(super) fn pdf_within(
+    flags: BxDFFlags,
+    sample_flags: BxDFReflTransFlags,
+    density: impl FnOnce() -> f32,
+) -> f32 {
+    if !flags.allows(sample_flags) {
+        return 0.0;
     }
-
-    fn sample_f(
-        &self,
-        wo: Vec3,
-        uc: f32,
-        u: Vec2,
-        _mode: super::TransportMode,
-        sample_flags: super::BxDFReflTransFlags,
-    ) -> Option<super::BSDFSample> {
-        if !self.flags().allows(sample_flags) {
-            return None;
-        }
-        let s = self.sample(wo, uc, u)?;
-        Some(super::BSDFSample::new(s.f, s.wi, s.pdf, self.flags()))
-    }
-
-    fn pdf(
-        &self,
-        wo: Vec3,
-        wi: Vec3,
-        _mode: super::TransportMode,
-        sample_flags: super::BxDFReflTransFlags,
-    ) -> f32 {
-        if !self.flags().allows(sample_flags) {
-            return 0.0;
-        }
-        self.density(wo, wi)
-    }
+    density()
 }
 
 /// pbrt-v4's hair BxDF as a hit holds it: a [`HairBxDF`] with its ω_o
@@ -876,19 +855,71 @@ impl CircularHairBxDF {
             _ => std::borrow::Cow::Owned(self.bxdf.outgoing(wo)),
         }
     }
-}
 
-impl HairScattering for CircularHairBxDF {
-    fn value(&self, wo: Vec3, wi: Vec3) -> SampledSpectrum {
+    /// f for the pair (the BxDF ignores the transport mode).
+    pub fn value(&self, wo: Vec3, wi: Vec3) -> SampledSpectrum {
         self.bxdf.value_at(&self.outgoing_for(wo), wi)
     }
-    fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<HairSample> {
+
+    /// A direction ωi sampled from the lobes, with f and its density.
+    pub fn sample(&self, wo: Vec3, uc: f32, u: Vec2) -> Option<HairSample> {
         self.bxdf.sample_at(&self.outgoing_for(wo), uc, u)
     }
-    fn density(&self, wo: Vec3, wi: Vec3) -> f32 {
+
+    /// Solid-angle density with which [`Self::sample`] picks ωi.
+    pub fn density(&self, wo: Vec3, wi: Vec3) -> f32 {
         self.bxdf.density_at(&self.outgoing_for(wo), wi)
     }
-    fn value_and_density(&self, wo: Vec3, wi: Vec3) -> (SampledSpectrum, f32) {
+
+    /// [`Self::value`] and [`Self::density`] at once (bit for bit the
+    /// same; they share their lobes' terms).
+    pub fn value_and_density(&self, wo: Vec3, wi: Vec3) -> (SampledSpectrum, f32) {
         self.bxdf.value_and_density_at(&self.outgoing_for(wo), wi)
     }
+}
+
+impl BxDFInterface for CircularHairBxDF {
+    fn f(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> SampledSpectrum {
+        self.value(wo, wi)
+    }
+
+    fn sample_f(
+        &self,
+        wo: Vec3,
+        uc: f32,
+        u: Vec2,
+        _mode: TransportMode,
+        sample_flags: BxDFReflTransFlags,
+    ) -> Option<BSDFSample> {
+        sample_f_within(self.flags(), sample_flags, || self.sample(wo, uc, u))
+    }
+
+    fn pdf(
+        &self,
+        wo: Vec3,
+        wi: Vec3,
+        _mode: TransportMode,
+        sample_flags: BxDFReflTransFlags,
+    ) -> f32 {
+        pdf_within(self.flags(), sample_flags, || self.density(wo, wi))
+    }
+
+    fn f_and_pdf(
+        &self,
+        wo: Vec3,
+        wi: Vec3,
+        _mode: TransportMode,
+    ) -> (SampledSpectrum, Option<f32>) {
+        let (f, pdf) = self.value_and_density(wo, wi);
+        (f, Some(pdf))
+    }
+
+    /// pbrt-v4 flags hair as glossy reflection, though it also transmits
+    /// (TT).
+    fn flags(&self) -> BxDFFlags {
+        BxDFFlags::GLOSSY_REFLECTION
+    }
+
+    /// Nothing to roughen: no hair lobe is a delta.
+    fn regularize(&mut self) {}
 }

@@ -7,8 +7,8 @@
 use super::geometry::{abs_cos_theta, same_hemisphere};
 use super::henyey_greenstein::HenyeyGreenstein;
 use super::{
-    BSDFSample, BxDFFlags, BxDFReflTransFlags, ConductorBxDF, DielectricBxDF, DiffuseBxDF,
-    TransportMode,
+    BSDFSample, BxDFFlags, BxDFInterface, BxDFReflTransFlags, ConductorBxDF, DielectricBxDF,
+    DiffuseBxDF, TransportMode,
 };
 use crate::math::hash::{hash_floats, hash_seed_and_vector, hash_vector};
 use crate::math::lerp;
@@ -22,54 +22,6 @@ use std::f32::consts::PI;
 /// pbrt-v4 mixes its `--seed` option (0 unless given) into the hashes that
 /// seed the walks; rpbrt uses the default.
 const WALK_SEED: i32 = 0;
-
-/// What a layered BxDF needs from each of its two interfaces.
-pub trait LayerInterface: Copy {
-    fn f(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> SampledSpectrum;
-    fn sample_f(
-        &self,
-        wo: Vec3,
-        uc: f32,
-        u: Vec2,
-        mode: TransportMode,
-        sample_flags: BxDFReflTransFlags,
-    ) -> Option<BSDFSample>;
-    fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode, sample_flags: BxDFReflTransFlags)
-        -> f32;
-    fn flags(&self) -> BxDFFlags;
-    fn regularize(&mut self);
-}
-
-macro_rules! forward_layer_interface {
-    ($($bxdf:ty),*) => {$(
-        impl LayerInterface for $bxdf {
-            fn f(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> SampledSpectrum {
-                <$bxdf>::f(self, wo, wi, mode)
-            }
-            fn sample_f(
-                &self,
-                wo: Vec3,
-                uc: f32,
-                u: Vec2,
-                mode: TransportMode,
-                sample_flags: BxDFReflTransFlags,
-            ) -> Option<BSDFSample> {
-                <$bxdf>::sample_f(self, wo, uc, u, mode, sample_flags)
-            }
-            fn pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode, sample_flags: BxDFReflTransFlags) -> f32 {
-                <$bxdf>::pdf(self, wo, wi, mode, sample_flags)
-            }
-            fn flags(&self) -> BxDFFlags {
-                <$bxdf>::flags(self)
-            }
-            fn regularize(&mut self) {
-                <$bxdf>::regularize(self)
-            }
-        }
-    )*};
-}
-
-forward_layer_interface!(DielectricBxDF, DiffuseBxDF, ConductorBxDF);
 
 /// One of the two interfaces, chosen at run time during a walk.
 enum Interface<'a, Top, Bottom> {
@@ -85,7 +37,7 @@ impl<Top, Bottom> Clone for Interface<'_, Top, Bottom> {
 
 impl<Top, Bottom> Copy for Interface<'_, Top, Bottom> {}
 
-impl<Top: LayerInterface, Bottom: LayerInterface> Interface<'_, Top, Bottom> {
+impl<Top: BxDFInterface, Bottom: BxDFInterface> Interface<'_, Top, Bottom> {
     fn f(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> SampledSpectrum {
         match self {
             Interface::Top(t) => t.f(wo, wi, mode),
@@ -165,7 +117,7 @@ pub type CoatedDiffuseBxDF = LayeredBxDF<DielectricBxDF, DiffuseBxDF, true>;
 /// A dielectric coating over a conductor (pbrt's `coatedconductor`).
 pub type CoatedConductorBxDF = LayeredBxDF<DielectricBxDF, ConductorBxDF, true>;
 
-impl<Top: LayerInterface, Bottom: LayerInterface, const TWO_SIDED: bool>
+impl<Top: BxDFInterface, Bottom: BxDFInterface, const TWO_SIDED: bool>
     LayeredBxDF<Top, Bottom, TWO_SIDED>
 {
     /// `max_depth` bounds the walk's scattering events; `n_samples` walks
@@ -199,7 +151,136 @@ impl<Top: LayerInterface, Bottom: LayerInterface, const TWO_SIDED: bool>
         &self.bottom
     }
 
-    pub fn regularize(&mut self) {
+    /// A generator for one query, seeded by hashing its inputs so repeated
+    /// queries give identical estimates.
+    fn walk_rng(first: u64, second: u64) -> impl FnMut() -> f32 {
+        let mut rng = Pcg32::new_with_seed(first, second);
+        move || rng.uniform_f32().min(ONE_MINUS_EPSILON)
+    }
+
+    fn sample_walk(&self, wo: Vec3, uc: f32, u: Vec2, mode: TransportMode) -> Option<BSDFSample> {
+        let mut wo = wo;
+        let mut flip_wi = false;
+        if TWO_SIDED && wo.z < 0.0 {
+            wo = -wo;
+            flip_wi = true;
+        }
+
+        // Entrance: either reflect right away or refract into the layers.
+        let entered_top = TWO_SIDED || wo.z > 0.0;
+        let mut bs = if entered_top {
+            self.top.sample_f(wo, uc, u, mode, BxDFReflTransFlags::All)
+        } else {
+            self.bottom
+                .sample_f(wo, uc, u, mode, BxDFReflTransFlags::All)
+        }
+        .filter(BSDFSample::is_usable)?;
+        if bs.is_reflection() {
+            if flip_wi {
+                bs.wi = -bs.wi;
+            }
+            bs.pdf_is_proportional = true;
+            return Some(bs);
+        }
+        let mut w = bs.wi;
+        let mut specular_path = bs.is_specular();
+
+        let mut r = Self::walk_rng(
+            hash_seed_and_vector(WALK_SEED, wo),
+            hash_floats(&[uc, u.x, u.y]),
+        );
+
+        let mut f = bs.f * abs_cos_theta(bs.wi);
+        let mut pdf = bs.pdf;
+        let mut z = if entered_top { self.thickness } else { 0.0 };
+        let phase = HenyeyGreenstein::new(self.g);
+
+        for depth in 0..self.max_depth {
+            let rr_beta = f.max_component() / pdf;
+            if depth > 3 && rr_beta < 0.25 {
+                let q = (1.0 - rr_beta).max(0.0);
+                if r() < q {
+                    return None;
+                }
+                pdf *= 1.0 - q;
+            }
+            if w.z == 0.0 {
+                return None;
+            }
+
+            if self.albedo.is_nonzero() {
+                let sigma_t = 1.0;
+                let dz = sample_exponential(r(), sigma_t / abs_cos_theta(w));
+                let zp = if w.z > 0.0 { z + dz } else { z - dz };
+                if zp == z {
+                    return None;
+                }
+                if 0.0 < zp && zp < self.thickness {
+                    let u = Vec2::new(r(), r());
+                    let ps = phase
+                        .sample_p(-w, u)
+                        .filter(|ps| ps.pdf > 0.0 && ps.wi.z != 0.0)?;
+                    f *= self.albedo * ps.p;
+                    pdf *= ps.pdf;
+                    specular_path = false;
+                    w = ps.wi;
+                    z = zp;
+                    continue;
+                }
+                z = zp.clamp(0.0, self.thickness);
+            } else {
+                z = if z == self.thickness {
+                    0.0
+                } else {
+                    self.thickness
+                };
+                f *= slab_transmittance(self.thickness, w);
+            }
+
+            let interface: Interface<Top, Bottom> = if z == 0.0 {
+                Interface::Bottom(&self.bottom)
+            } else {
+                Interface::Top(&self.top)
+            };
+            let uc = r();
+            let u = Vec2::new(r(), r());
+            let bs = interface
+                .sample_f(-w, uc, u, mode, BxDFReflTransFlags::All)
+                .filter(BSDFSample::is_usable)?;
+            f *= bs.f;
+            pdf *= bs.pdf;
+            specular_path &= bs.is_specular();
+            w = bs.wi;
+
+            if bs.is_transmission() {
+                // Left the layers.
+                let side = if same_hemisphere(wo, w) {
+                    BxDFFlags::REFLECTION
+                } else {
+                    BxDFFlags::TRANSMISSION
+                };
+                let lobe = if specular_path {
+                    BxDFFlags::SPECULAR
+                } else {
+                    BxDFFlags::GLOSSY
+                };
+                if flip_wi {
+                    w = -w;
+                }
+                let mut sample = BSDFSample::new(f, w, pdf, side | lobe);
+                sample.pdf_is_proportional = true;
+                return Some(sample);
+            }
+            f *= abs_cos_theta(bs.wi);
+        }
+        None
+    }
+}
+
+impl<Top: BxDFInterface, Bottom: BxDFInterface, const TWO_SIDED: bool> BxDFInterface
+    for LayeredBxDF<Top, Bottom, TWO_SIDED>
+{
+    fn regularize(&mut self) {
         self.top.regularize();
         self.bottom.regularize();
     }
@@ -208,7 +289,7 @@ impl<Top: LayerInterface, Bottom: LayerInterface, const TWO_SIDED: bool>
     /// both interfaces transmit. Specular if the top is (its reflection is
     /// a delta); diffuse if anything diffuse or a scattering medium is
     /// involved, else glossy.
-    pub fn flags(&self) -> BxDFFlags {
+    fn flags(&self) -> BxDFFlags {
         let top_flags = self.top.flags();
         let bottom_flags = self.bottom.flags();
         let mut flags = BxDFFlags::REFLECTION;
@@ -226,13 +307,6 @@ impl<Top: LayerInterface, Bottom: LayerInterface, const TWO_SIDED: bool>
         flags
     }
 
-    /// A generator for one query, seeded by hashing its inputs so repeated
-    /// queries give identical estimates.
-    fn walk_rng(first: u64, second: u64) -> impl FnMut() -> f32 {
-        let mut rng = Pcg32::new_with_seed(first, second);
-        move || rng.uniform_f32().min(ONE_MINUS_EPSILON)
-    }
-
     /// Stochastic estimate of f: the entrance interface's reflection plus
     /// `n_samples` walks that refract in, bounce between the layers (and
     /// scatter in the medium), with next-event estimation towards ωi
@@ -247,7 +321,7 @@ impl<Top: LayerInterface, Bottom: LayerInterface, const TWO_SIDED: bool>
     /// sum to one and f comes out a few percent above what `sample_f`
     /// implies. Renders must match pbrt-v4, so this is kept; the tests
     /// measure it.
-    pub fn f(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> SampledSpectrum {
+    fn f(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> SampledSpectrum {
         let (mut wo, mut wi) = (wo, wi);
         if TWO_SIDED && wo.z < 0.0 {
             wo = -wo;
@@ -447,7 +521,7 @@ impl<Top: LayerInterface, Bottom: LayerInterface, const TWO_SIDED: bool>
     /// pbrt-v4 only ever asks layered BxDFs for both hemispheres; a
     /// restricted request here runs the same walk and drops samples of the
     /// other kind.
-    pub fn sample_f(
+    fn sample_f(
         &self,
         wo: Vec3,
         uc: f32,
@@ -464,131 +538,13 @@ impl<Top: LayerInterface, Bottom: LayerInterface, const TWO_SIDED: bool>
         wanted.then_some(sample)
     }
 
-    fn sample_walk(&self, wo: Vec3, uc: f32, u: Vec2, mode: TransportMode) -> Option<BSDFSample> {
-        let mut wo = wo;
-        let mut flip_wi = false;
-        if TWO_SIDED && wo.z < 0.0 {
-            wo = -wo;
-            flip_wi = true;
-        }
-
-        // Entrance: either reflect right away or refract into the layers.
-        let entered_top = TWO_SIDED || wo.z > 0.0;
-        let mut bs = if entered_top {
-            self.top.sample_f(wo, uc, u, mode, BxDFReflTransFlags::All)
-        } else {
-            self.bottom
-                .sample_f(wo, uc, u, mode, BxDFReflTransFlags::All)
-        }
-        .filter(BSDFSample::is_usable)?;
-        if bs.is_reflection() {
-            if flip_wi {
-                bs.wi = -bs.wi;
-            }
-            bs.pdf_is_proportional = true;
-            return Some(bs);
-        }
-        let mut w = bs.wi;
-        let mut specular_path = bs.is_specular();
-
-        let mut r = Self::walk_rng(
-            hash_seed_and_vector(WALK_SEED, wo),
-            hash_floats(&[uc, u.x, u.y]),
-        );
-
-        let mut f = bs.f * abs_cos_theta(bs.wi);
-        let mut pdf = bs.pdf;
-        let mut z = if entered_top { self.thickness } else { 0.0 };
-        let phase = HenyeyGreenstein::new(self.g);
-
-        for depth in 0..self.max_depth {
-            let rr_beta = f.max_component() / pdf;
-            if depth > 3 && rr_beta < 0.25 {
-                let q = (1.0 - rr_beta).max(0.0);
-                if r() < q {
-                    return None;
-                }
-                pdf *= 1.0 - q;
-            }
-            if w.z == 0.0 {
-                return None;
-            }
-
-            if self.albedo.is_nonzero() {
-                let sigma_t = 1.0;
-                let dz = sample_exponential(r(), sigma_t / abs_cos_theta(w));
-                let zp = if w.z > 0.0 { z + dz } else { z - dz };
-                if zp == z {
-                    return None;
-                }
-                if 0.0 < zp && zp < self.thickness {
-                    let u = Vec2::new(r(), r());
-                    let ps = phase
-                        .sample_p(-w, u)
-                        .filter(|ps| ps.pdf > 0.0 && ps.wi.z != 0.0)?;
-                    f *= self.albedo * ps.p;
-                    pdf *= ps.pdf;
-                    specular_path = false;
-                    w = ps.wi;
-                    z = zp;
-                    continue;
-                }
-                z = zp.clamp(0.0, self.thickness);
-            } else {
-                z = if z == self.thickness {
-                    0.0
-                } else {
-                    self.thickness
-                };
-                f *= slab_transmittance(self.thickness, w);
-            }
-
-            let interface: Interface<Top, Bottom> = if z == 0.0 {
-                Interface::Bottom(&self.bottom)
-            } else {
-                Interface::Top(&self.top)
-            };
-            let uc = r();
-            let u = Vec2::new(r(), r());
-            let bs = interface
-                .sample_f(-w, uc, u, mode, BxDFReflTransFlags::All)
-                .filter(BSDFSample::is_usable)?;
-            f *= bs.f;
-            pdf *= bs.pdf;
-            specular_path &= bs.is_specular();
-            w = bs.wi;
-
-            if bs.is_transmission() {
-                // Left the layers.
-                let side = if same_hemisphere(wo, w) {
-                    BxDFFlags::REFLECTION
-                } else {
-                    BxDFFlags::TRANSMISSION
-                };
-                let lobe = if specular_path {
-                    BxDFFlags::SPECULAR
-                } else {
-                    BxDFFlags::GLOSSY
-                };
-                if flip_wi {
-                    w = -w;
-                }
-                let mut sample = BSDFSample::new(f, w, pdf, side | lobe);
-                sample.pdf_is_proportional = true;
-                return Some(sample);
-            }
-            f *= abs_cos_theta(bs.wi);
-        }
-        None
-    }
-
     /// Stochastic estimate of the density `sample_f` draws ωi with: the
     /// entrance reflection plus a transmit–reflect–transmit (or transmit–
     /// transmit) single-bounce approximation, blended with a uniform
     /// density (10%) so it is never zero where f is not. Deterministic for
     /// a given (ωo, ωi). Requests other than for both hemispheres give 0
     /// for the excluded kind and the full estimate otherwise.
-    pub fn pdf(
+    fn pdf(
         &self,
         wo: Vec3,
         wi: Vec3,

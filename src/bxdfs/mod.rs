@@ -1,13 +1,14 @@
 //! Scattering functions (BxDFs) with pbrt-v4's semantics, and the BSDF that
 //! places one in a surface's shading frame.
 //!
-//! All BxDF methods work in the local shading frame (z is the shading
-//! normal) with ωo and ωi both pointing away from the surface. The family
-//! is a closed enum dispatched by `match`, so a BxDF is created per
-//! intersection by value, with no heap allocation.
+//! Every BxDF keeps one contract, [`BxDFInterface`], in the local shading
+//! frame (z is the shading normal) with ωo and ωi both pointing away from
+//! the surface. The family is a closed enum dispatched by `match`, so a
+//! BxDF is created per intersection by value, with no heap allocation.
 
 mod bsdf;
 mod bsdf_sample;
+mod bxdf_interface;
 mod conductor;
 mod dielectric;
 mod diffuse;
@@ -32,20 +33,20 @@ mod test_support;
 
 pub use bsdf::BSDF;
 pub use bsdf_sample::BSDFSample;
+pub use bxdf_interface::BxDFInterface;
 pub use conductor::ConductorBxDF;
 pub use dielectric::DielectricBxDF;
 pub use diffuse::DiffuseBxDF;
 pub use diffuse_transmission::DiffuseTransmissionBxDF;
 pub use flags::{BxDFFlags, BxDFReflTransFlags};
 pub use henyey_greenstein::{henyey_greenstein, HenyeyGreenstein, PhaseFunctionSample};
-pub use layered::{CoatedConductorBxDF, CoatedDiffuseBxDF, LayerInterface, LayeredBxDF};
+pub use layered::{CoatedConductorBxDF, CoatedDiffuseBxDF, LayeredBxDF};
 pub use microfacet::TrowbridgeReitzDistribution;
 pub use thin_dielectric::ThinDielectricBxDF;
 pub use transport_mode::TransportMode;
 
 use crate::spectrum::SampledSpectrum;
 use glam::{Vec2, Vec3};
-use hair::HairScattering as _;
 
 /// The BxDFs pbrt-v4's materials create (hair and measured BxDFs aside).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -78,38 +79,14 @@ macro_rules! dispatch {
     };
 }
 
-impl BxDF {
-    /// The BxDF's value for the pair (zero for delta lobes; a stochastic
-    /// but deterministic estimate for layered BxDFs).
-    pub fn f(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> SampledSpectrum {
+/// The contract is the trait's; the enum keeps it by a `match` over the
+/// models (no indirection per call, and each arm inlines its model).
+impl BxDFInterface for BxDF {
+    fn f(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> SampledSpectrum {
         dispatch!(self, b => b.f(wo, wi, mode))
     }
 
-    /// f, and with it the pdf over all lobes where that costs next to
-    /// nothing more (hair: the value and the density share each lobe's
-    /// terms); `None` asks the caller to call [`Self::pdf`] if it needs it.
-    pub fn f_and_pdf(
-        &self,
-        wo: Vec3,
-        wi: Vec3,
-        mode: TransportMode,
-    ) -> (SampledSpectrum, Option<f32>) {
-        match self {
-            BxDF::Hair(b) => {
-                let (f, pdf) = b.value_and_density(wo, wi);
-                (f, Some(pdf))
-            }
-            BxDF::DualHair(b) => {
-                let (f, pdf) = b.value_and_density(wo, wi);
-                (f, Some(pdf))
-            }
-            _ => (self.f(wo, wi, mode), None),
-        }
-    }
-
-    /// Samples ωi given ωo, a 1D sample `uc` (lobe choice) and a 2D sample
-    /// `u` (direction), restricted to the requested hemispheres.
-    pub fn sample_f(
+    fn sample_f(
         &self,
         wo: Vec3,
         uc: f32,
@@ -120,9 +97,7 @@ impl BxDF {
         dispatch!(self, b => b.sample_f(wo, uc, u, mode, sample_flags))
     }
 
-    /// Solid-angle density with which `sample_f` returns ωi (zero for delta
-    /// lobes).
-    pub fn pdf(
+    fn pdf(
         &self,
         wo: Vec3,
         wi: Vec3,
@@ -132,12 +107,15 @@ impl BxDF {
         dispatch!(self, b => b.pdf(wo, wi, mode, sample_flags))
     }
 
-    pub fn flags(&self) -> BxDFFlags {
+    fn f_and_pdf(&self, wo: Vec3, wi: Vec3, mode: TransportMode) -> (SampledSpectrum, Option<f32>) {
+        dispatch!(self, b => b.f_and_pdf(wo, wi, mode))
+    }
+
+    fn flags(&self) -> BxDFFlags {
         dispatch!(self, b => b.flags())
     }
 
-    /// Roughens near-specular lobes (pbrt-v4's `regularize` option).
-    pub fn regularize(&mut self) {
+    fn regularize(&mut self) {
         dispatch!(self, b => b.regularize())
     }
 }

@@ -3,7 +3,7 @@
 //! sampling-consistency check, and pbrt-v4's χ² goodness-of-fit test of a
 //! sampling routine against its density.
 
-use super::{BxDF, BxDFReflTransFlags, TransportMode, BSDF};
+use super::{BxDF, BxDFInterface, BxDFReflTransFlags, TransportMode, BSDF};
 use crate::math::pcg32::Pcg32;
 use crate::math::sampling::{sample_cosine_hemisphere, sample_uniform_sphere, UNIFORM_SPHERE_PDF};
 use glam::{Vec2, Vec3};
@@ -143,7 +143,7 @@ impl ConsistencyReport {
 /// `pdf()` and `f()` with what each sample reported. Works on the average
 /// over wavelengths.
 pub fn sampling_consistency(
-    bxdf: &BxDF,
+    bxdf: &impl BxDFInterface,
     wo: Vec3,
     mode: TransportMode,
     importance_samples: usize,

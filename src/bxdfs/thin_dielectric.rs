@@ -4,7 +4,7 @@
 
 use super::fresnel::fr_dielectric;
 use super::geometry::abs_cos_theta;
-use super::{BSDFSample, BxDFFlags, BxDFReflTransFlags, TransportMode};
+use super::{BSDFSample, BxDFFlags, BxDFInterface, BxDFReflTransFlags, TransportMode};
 use crate::math::sqr;
 use crate::spectrum::SampledSpectrum;
 use glam::{Vec2, Vec3};
@@ -33,13 +33,15 @@ impl ThinDielectricBxDF {
         }
         (reflectance, transmittance)
     }
+}
 
+impl BxDFInterface for ThinDielectricBxDF {
     /// Delta lobes only: never non-zero for a given direction pair.
-    pub fn f(&self, _wo: Vec3, _wi: Vec3, _mode: TransportMode) -> SampledSpectrum {
+    fn f(&self, _wo: Vec3, _wi: Vec3, _mode: TransportMode) -> SampledSpectrum {
         SampledSpectrum::ZERO
     }
 
-    pub fn sample_f(
+    fn sample_f(
         &self,
         wo: Vec3,
         uc: f32,
@@ -82,7 +84,7 @@ impl ThinDielectricBxDF {
         }
     }
 
-    pub fn pdf(
+    fn pdf(
         &self,
         _wo: Vec3,
         _wi: Vec3,
@@ -92,12 +94,12 @@ impl ThinDielectricBxDF {
         0.0
     }
 
-    pub fn flags(&self) -> BxDFFlags {
+    fn flags(&self) -> BxDFFlags {
         BxDFFlags::REFLECTION | BxDFFlags::TRANSMISSION | BxDFFlags::SPECULAR
     }
 
     /// pbrt-v4 leaves the thin dielectric unregularized.
-    pub fn regularize(&mut self) {}
+    fn regularize(&mut self) {}
 }
 
 #[cfg(test)]

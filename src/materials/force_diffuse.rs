@@ -16,7 +16,7 @@
 //! pbrt-v4's; it is less noisy, and the pixel sampler's stream is not
 //! advanced (pbrt-v4 draws three numbers at each hit).
 
-use crate::bxdfs::{BxDF, BxDFReflTransFlags, DiffuseBxDF, TransportMode, BSDF};
+use crate::bxdfs::{BxDF, BxDFInterface, BxDFReflTransFlags, DiffuseBxDF, TransportMode, BSDF};
 use crate::interaction::SurfaceInteraction;
 use crate::math::hash::hash_words;
 use crate::math::ONE_MINUS_EPSILON;
