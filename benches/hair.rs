@@ -14,7 +14,7 @@ use glam::{Vec2, Vec3};
 use rpbrt::bxdfs::dual_hair::{DualHairBxDF, DualHairParams};
 use rpbrt::bxdfs::hair::{CircularHairBxDF, HairBxDF};
 use rpbrt::bxdfs::hair_diffraction::Diffraction;
-use rpbrt::bxdfs::hair_ellipse::{Ellipse, InternalFresnel, Optics, Variant};
+use rpbrt::bxdfs::hair_ellipse::{Ellipse, InternalFresnel, Optics, RayModel, Variant};
 use rpbrt::bxdfs::{BxDF, BxDFInterface, BxDFReflTransFlags, TransportMode};
 use rpbrt::spectrum::SampledSpectrum;
 use std::hint::black_box;
@@ -149,11 +149,7 @@ fn hair(c: &mut Criterion) {
                     axis,
                     i.0,
                     &optics,
-                    (
-                        Variant::Exact,
-                        InternalFresnel::Pbrt,
-                        rpbrt::bxdfs::hair_ellipse::Residual::Uniform,
-                    ),
+                    RayModel::PBRT,
                     |k, exit| {
                         black_box((k, exit));
                         1.0

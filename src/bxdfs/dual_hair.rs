@@ -33,7 +33,7 @@ use super::hair_diffraction::{
     Diffraction,
 };
 use super::hair_ellipse::{
-    Attenuation, Ellipse, InternalFresnel, Optics, Residual, Variant, LOBES,
+    Attenuation, Ellipse, InternalFresnel, Optics, RayModel, Residual, Variant, LOBES,
 };
 use super::{BSDFSample, BxDFFlags, BxDFInterface, BxDFReflTransFlags, TransportMode};
 use crate::math::fast_atan2::fast_atan2;
@@ -74,6 +74,15 @@ impl DualHairParams {
             variant: Variant::Exact,
             internal_fresnel: InternalFresnel::Pbrt,
             residual: Residual::Uniform,
+        }
+    }
+
+    /// The ray model its cross-section traces follow.
+    pub fn ray_model(&self) -> RayModel {
+        RayModel {
+            variant: self.variant,
+            fresnel: self.internal_fresnel,
+            residual: self.residual,
         }
     }
 
@@ -273,11 +282,7 @@ impl DualHairBxDF {
                 axis,
                 -h,
                 &optics,
-                (
-                    self.params.variant,
-                    self.params.internal_fresnel,
-                    self.params.residual,
-                ),
+                self.params.ray_model(),
                 |k, exit| a.add(k, &exit),
             );
             let trrt_a = a.trrt();

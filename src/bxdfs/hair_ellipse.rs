@@ -105,6 +105,39 @@ pub enum Residual {
     Trrt,
 }
 
+/// Which ray model a trace follows: the equations, the Fresnel reflectance
+/// at the inner interfaces and the layout of the light leaving after TRT
+/// (the dual material's `variant`, `internal_fresnel`/`fresnel` and
+/// `residual`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct RayModel {
+    pub variant: Variant,
+    pub fresnel: InternalFresnel,
+    pub residual: Residual,
+}
+
+impl RayModel {
+    /// pbrt-v4's hair as the ray part of an ellipse: the exact equations,
+    /// each interface's own Fresnel term, a uniform residual (the dual
+    /// material's defaults).
+    pub const PBRT: RayModel = RayModel {
+        variant: Variant::Exact,
+        fresnel: InternalFresnel::Pbrt,
+        residual: Residual::Uniform,
+    };
+}
+
+/// What a trace follows and when it stops: past [`TRACED_EXITS`] it goes
+/// on while more than `trapped_power` is inside (negative: to
+/// [`MAX_EXITS`]) and more than `absorbed_power` is left of it after
+/// absorption (negative: whatever the absorption).
+#[derive(Clone, Copy, Debug)]
+struct TraceSettings {
+    model: RayModel,
+    trapped_power: f32,
+    absorbed_power: f32,
+}
+
 /// An elliptical cross-section, semi-axes in units of the mean semi-axis.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Ellipse {
@@ -300,17 +333,15 @@ impl Ellipse {
         variant: Variant,
         fresnel: InternalFresnel,
     ) -> Trace {
-        self.trace_while(
-            phi_in,
-            h,
-            optics,
-            (variant, fresnel),
-            Residual::Uniform,
-            TRAPPED_POWER,
-        )
+        let model = RayModel {
+            variant,
+            fresnel,
+            residual: Residual::Uniform,
+        };
+        self.trace_while(phi_in, h, optics, model, TRAPPED_POWER)
     }
 
-    /// [`Ellipse::trace`] with the residual's layout chosen: with
+    /// [`Ellipse::trace`] with the residual's layout chosen too: with
     /// [`Residual::Trrt`] (exact variant) TRRT is always traced and its exit
     /// azimuth kept.
     pub fn trace_with_residual(
@@ -318,17 +349,9 @@ impl Ellipse {
         phi_in: f32,
         h: f32,
         optics: &Optics,
-        (variant, fresnel): (Variant, InternalFresnel),
-        residual: Residual,
+        model: RayModel,
     ) -> Trace {
-        self.trace_while(
-            phi_in,
-            h,
-            optics,
-            (variant, fresnel),
-            residual,
-            TRAPPED_POWER,
-        )
+        self.trace_while(phi_in, h, optics, model, TRAPPED_POWER)
     }
 
     /// [`Ellipse::trace`], tracing past [`TRACED_EXITS`] while more than
@@ -338,24 +361,21 @@ impl Ellipse {
         phi_in: f32,
         h: f32,
         optics: &Optics,
-        model: (Variant, InternalFresnel),
-        residual: Residual,
+        model: RayModel,
         trapped_power: f32,
     ) -> Trace {
         let (sin_phi, cos_phi) = (phi_in as f64).sin_cos();
         let toward_in = DVec2::new(cos_phi, sin_phi);
         let mut exits = [Exit::default(); MAX_EXITS];
-        let end = self.trace_exits(
-            (toward_in, DVec2::X),
-            h,
-            optics,
-            (model.0, model.1, residual),
-            (trapped_power, -1.0),
-            |k, e| {
-                exits[k] = e;
-                1.0
-            },
-        );
+        let settings = TraceSettings {
+            model,
+            trapped_power,
+            absorbed_power: -1.0,
+        };
+        let end = self.trace_exits(toward_in, DVec2::X, h, optics, settings, |k, e| {
+            exits[k] = e;
+            1.0
+        });
         Trace { exits, end }
     }
 
@@ -370,37 +390,44 @@ impl Ellipse {
     /// transmittance the light still inside has been through (1 where it
     /// does not know): past TRT the trace goes on while the power inside
     /// exceeds [`TRAPPED_POWER`] and, times that bound, [`ABSORBED_POWER`].
-    #[allow(clippy::too_many_arguments)]
     pub fn trace_into(
         &self,
         toward_in: DVec2,
         turn: DVec2,
         h: f32,
         optics: &Optics,
-        (variant, fresnel, residual): (Variant, InternalFresnel, Residual),
+        model: RayModel,
         on_exit: impl FnMut(usize, Exit) -> f32,
     ) -> TraceEnd {
-        self.trace_exits(
-            (toward_in, turn),
-            h,
-            optics,
-            (variant, fresnel, residual),
-            (TRAPPED_POWER, ABSORBED_POWER),
-            on_exit,
-        )
+        let settings = TraceSettings {
+            model,
+            trapped_power: TRAPPED_POWER,
+            absorbed_power: ABSORBED_POWER,
+        };
+        self.trace_exits(toward_in, turn, h, optics, settings, on_exit)
     }
 
     // k is the exit's order (lobe, tail, stop rule), not only an index.
     #[allow(clippy::needless_range_loop)]
     fn trace_exits(
         &self,
-        (u, turn): (DVec2, DVec2),
+        u: DVec2,
+        turn: DVec2,
         h: f32,
         optics: &Optics,
-        (variant, fresnel, residual_layout): (Variant, InternalFresnel, Residual),
-        (trapped_power, absorbed_power): (f32, f32),
+        settings: TraceSettings,
         mut on_exit: impl FnMut(usize, Exit) -> f32,
     ) -> TraceEnd {
+        let TraceSettings {
+            model:
+                RayModel {
+                    variant,
+                    fresnel,
+                    residual: residual_layout,
+                },
+            trapped_power,
+            absorbed_power,
+        } = settings;
         let h = h.clamp(-1.0, 1.0) as f64;
         let eta_p = optics.eta_p as f64;
         // The entry in the unit circle the ellipse is scaled from
@@ -728,26 +755,42 @@ impl Attenuation {
     }
 }
 
+/// The h-averaged azimuthal maps of the ray part of one fibre, one per lobe
+/// (R, TT, TRT and the residual), row by row ([`h_averaged_row`]).
+#[derive(Clone, Copy, Debug)]
+pub struct HAveragedMaps {
+    pub ellipse: Ellipse,
+    pub optics: Optics,
+    /// Absorption per unit mean radius, grey.
+    pub sigma_a: f32,
+    /// The lobes' logistic scale s (radians).
+    pub scale: f32,
+    pub model: RayModel,
+    /// Offsets h in the midpoint rule (n_h).
+    pub offsets: usize,
+    /// Azimuths φ_out in a row (n_out).
+    pub azimuths: usize,
+}
+
 /// One row (fixed φ_in) of the h-averaged azimuthal maps of the ray part
 /// on the uniform grid φ_out = 2πk/n_out: for lobes R, TT, TRT,
 /// N_p(φ_out) = ½∫_{−1}^{1} A_p(h) L(φ_out − φ_p(h), s) dh by the midpoint
-/// rule over `n_h` offsets (L pbrt's logistic trimmed to [−π, π]), and the
+/// rule over n_h offsets (L pbrt's logistic trimmed to [−π, π]), and the
 /// residual A_3/(2π) (its direction is uniform; with [`Residual::Trrt`]
 /// TRRT's part is a logistic about its exit azimuth instead). So
-/// ∫ N_p dφ_out is the h average of A_p. σ_a is grey here.
-#[allow(clippy::too_many_arguments)]
-pub fn h_averaged_row(
-    ellipse: &Ellipse,
-    phi_in: f32,
-    optics: &Optics,
-    sigma_a: f32,
-    s: f32,
-    model: (Variant, InternalFresnel, Residual),
-    n_h: usize,
-    n_out: usize,
-) -> [Vec<f32>; LOBES + 1] {
+/// ∫ N_p dφ_out is the h average of A_p.
+pub fn h_averaged_row(maps: &HAveragedMaps, phi_in: f32) -> [Vec<f32>; LOBES + 1] {
     use super::hair::{trimmed_logistic, wrap_angle};
     use std::f32::consts::PI;
+    let HAveragedMaps {
+        ellipse,
+        optics,
+        sigma_a,
+        scale: s,
+        model,
+        offsets: n_h,
+        azimuths: n_out,
+    } = *maps;
     let mut rows: [Vec<f32>; LOBES + 1] = std::array::from_fn(|_| vec![0.0; n_out]);
     let step = 2.0 * PI / n_out as f32;
     // The kernel is below 1e-16 of its peak past 40 s.
@@ -755,7 +798,7 @@ pub fn h_averaged_row(
     let h_weight = 1.0 / n_h as f32; // ½ dh with dh = 2/n_h
     for i in 0..n_h {
         let h = -1.0 + (2.0 * i as f32 + 1.0) / n_h as f32;
-        let trace = ellipse.trace_with_residual(phi_in, h, optics, (model.0, model.1), model.2);
+        let trace = ellipse.trace_with_residual(phi_in, h, &optics, model);
         let (a, trrt) =
             trace.attenuations_and_trrt(SampledSpectrum::splat(sigma_a), optics.cos_theta_t);
         // The lobes, TRRT's last when it has its own azimuth (it lands in
@@ -851,7 +894,7 @@ mod tests {
     /// far more often than the rule on the power alone lets it.
     #[test]
     fn absorption_weighted_stop_keeps_the_bound() {
-        let model = (Variant::Exact, InternalFresnel::Pbrt);
+        let model = RayModel::PBRT;
         let mut worst = 0.0f32;
         // Traces going past TRT: by the power alone, and per σ_a by the
         // absorbed power.
@@ -868,10 +911,10 @@ mod tests {
                     let toward = DVec2::new((phi as f64).cos(), (phi as f64).sin());
                     for j in 0..=40 {
                         let h = -1.0 + j as f32 * 0.05;
-                        let all = e.trace_while(phi, h, &optics, model, Residual::Uniform, -1.0);
+                        let all = e.trace_while(phi, h, &optics, model, -1.0);
                         total += 1;
                         by_power += usize::from(
-                            e.trace_while(phi, h, &optics, model, Residual::Uniform, TRAPPED_POWER)
+                            e.trace_while(phi, h, &optics, model, TRAPPED_POWER)
                                 .end
                                 .count
                                 > TRACED_EXITS,
@@ -880,14 +923,10 @@ mod tests {
                             // Four wavelengths absorbed unequally, as melanin's.
                             let s = SampledSpectrum([0.5, 1.0, 1.5, 2.0].map(|x| x * sigma));
                             let mut a = Attenuation::new(s, optics.cos_theta_t, true);
-                            let end = e.trace_into(
-                                toward,
-                                DVec2::X,
-                                h,
-                                &optics,
-                                (model.0, model.1, Residual::Uniform),
-                                |k, exit| a.add(k, &exit),
-                            );
+                            let end =
+                                e.trace_into(toward, DVec2::X, h, &optics, model, |k, exit| {
+                                    a.add(k, &exit)
+                                });
                             by_absorbed[i] += usize::from(end.count > TRACED_EXITS);
                             let adaptive = a.finish(&end);
                             let reference = all.attenuations(s, optics.cos_theta_t);
@@ -933,10 +972,7 @@ mod tests {
                     let phi = k as f32 * 0.0785;
                     for j in 0..=40 {
                         let h = -1.0 + j as f32 * 0.05;
-                        let run = |power| {
-                            let model = (Variant::Exact, InternalFresnel::Pbrt);
-                            e.trace_while(phi, h, &optics, model, Residual::Uniform, power)
-                        };
+                        let run = |power| e.trace_while(phi, h, &optics, RayModel::PBRT, power);
                         let (adaptive, all) = (run(TRAPPED_POWER), run(-1.0));
                         assert_eq!(all.end.count, MAX_EXITS);
                         extended += usize::from(adaptive.end.count > TRACED_EXITS);

@@ -7,7 +7,7 @@
 //! converge fast enough to compare at s = 0.01.
 
 use super::hair::{trimmed_logistic, wrap_angle};
-use super::hair_ellipse::{h_averaged_row, Ellipse, InternalFresnel, Optics, Residual, Variant};
+use super::hair_ellipse::{h_averaged_row, Ellipse, HAveragedMaps, Optics, RayModel};
 use std::f64::consts::PI;
 
 /// Unpolarised Fresnel reflectance from medium n1 into n2 at incidence
@@ -173,17 +173,17 @@ fn bcsdf_maps_match_the_brute_force_tracer() {
             .collect();
         let mut model: [Vec<f64>; 3] = std::array::from_fn(|_| vec![0.0; n * n]);
         let mut residual = 0.0f64;
+        let averaged = HAveragedMaps {
+            ellipse,
+            optics,
+            sigma_a: sigma_a as f32,
+            scale: s,
+            model: RayModel::PBRT,
+            offsets: 6000,
+            azimuths: n,
+        };
         for i in 0..n {
-            let rows = h_averaged_row(
-                &ellipse,
-                grid[i],
-                &optics,
-                sigma_a as f32,
-                s,
-                (Variant::Exact, InternalFresnel::Pbrt, Residual::Uniform),
-                6000,
-                n,
-            );
+            let rows = h_averaged_row(&averaged, grid[i]);
             for p in 0..3 {
                 for j in 0..n {
                     model[p][i * n + j] = rows[p][j] as f64;

@@ -14,7 +14,7 @@ use crate::bxdfs::dual_hair::DualHairParams;
 use crate::bxdfs::hair::{trimmed_logistic, wrap_angle, HairBxDF, HairLobes};
 use crate::bxdfs::hair_diffraction::{spectral_integral, ClosedFormLobe, Diffraction};
 use crate::bxdfs::hair_ellipse::{
-    h_averaged_row, Ellipse, InternalFresnel, Optics, Residual, Variant,
+    h_averaged_row, Ellipse, HAveragedMaps, InternalFresnel, Optics, Residual, Variant,
 };
 use crate::spectrum::{cie_x, cie_y, cie_z};
 use std::f32::consts::PI;
@@ -214,18 +214,18 @@ pub fn maps(args: &BcsdfArgs) -> Result<Maps, String> {
         1.0 / (1.0 + params.d_diff),
         params.d_diff / (1.0 + params.d_diff),
     );
+    let averaged = HAveragedMaps {
+        ellipse: params.ellipse,
+        optics,
+        sigma_a: args.sigma_a(),
+        scale: args.scale(),
+        model: params.ray_model(),
+        offsets: 2000,
+        azimuths: n,
+    };
     let mut maps: [Vec<f32>; 6] = std::array::from_fn(|_| vec![0.0; n * n]);
     for (i, &phi_i) in grid.iter().enumerate() {
-        let rows = h_averaged_row(
-            &params.ellipse,
-            phi_i,
-            &optics,
-            args.sigma_a(),
-            args.scale(),
-            (params.variant, params.internal_fresnel, params.residual),
-            2000,
-            n,
-        );
+        let rows = h_averaged_row(&averaged, phi_i);
         let d_um = params.diffraction_width_um(phi_i, optics.cos_theta);
         for (j, &phi_r) in grid.iter().enumerate() {
             let delta = wrap_angle(phi_r - phi_i - PI);
@@ -413,6 +413,7 @@ pub fn run(args: &BcsdfArgs) -> Result<(), String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::bxdfs::hair_ellipse::RayModel;
     use clap::Parser;
 
     #[derive(Parser)]
@@ -540,17 +541,17 @@ mod tests {
         let params = cli.args.params().unwrap();
         let optics = Optics::new(1.55, 0.0);
         let n = 1440;
+        let averaged = HAveragedMaps {
+            ellipse: params.ellipse,
+            optics,
+            sigma_a: 0.0,
+            scale: 0.05,
+            model: RayModel::PBRT,
+            offsets: 2000,
+            azimuths: n,
+        };
         for phi_i in [0.0f32, 0.7, 2.0] {
-            let rows = h_averaged_row(
-                &params.ellipse,
-                phi_i,
-                &optics,
-                0.0,
-                0.05,
-                (Variant::Exact, InternalFresnel::Pbrt, Residual::Uniform),
-                2000,
-                n,
-            );
+            let rows = h_averaged_row(&averaged, phi_i);
             let total: f32 = rows
                 .iter()
                 .map(|r| r.iter().sum::<f32>() * 2.0 * PI / n as f32)

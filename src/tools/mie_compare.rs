@@ -23,7 +23,7 @@ use super::plot::{log_log_plot, Series};
 use crate::bxdfs::hair::trimmed_logistic;
 use crate::bxdfs::hair_diffraction::{spectral_integral, ClosedFormLobe, Diffraction};
 use crate::bxdfs::hair_ellipse::{
-    h_averaged_row, Ellipse, InternalFresnel, Optics, Residual, Variant,
+    h_averaged_row, Ellipse, HAveragedMaps, InternalFresnel, Optics, RayModel, Residual, Variant,
 };
 use crate::spectrum::cie_y;
 use std::f64::consts::PI;
@@ -260,16 +260,20 @@ pub fn model_density(
         let sigma_a = 4.0 * PI * setup.kappa / (lambda_nm * 1e-3) * 0.5 * diameter_um;
         // φ_in = 0: the forward direction is φ_out = π, grid point j of
         // φ_out = 2πj/M is Θ_j = φ_out − π.
-        let rows = h_averaged_row(
-            &Ellipse::CIRCLE,
-            0.0,
-            &optics,
-            sigma_a as f32,
-            setup.ray_scale,
-            (Variant::Exact, model.fresnel, model.residual),
-            MODEL_OFFSETS,
-            m,
-        );
+        let averaged = HAveragedMaps {
+            ellipse: Ellipse::CIRCLE,
+            optics,
+            sigma_a: sigma_a as f32,
+            scale: setup.ray_scale,
+            model: RayModel {
+                variant: Variant::Exact,
+                fresnel: model.fresnel,
+                residual: model.residual,
+            },
+            offsets: MODEL_OFFSETS,
+            azimuths: m,
+        };
+        let rows = h_averaged_row(&averaged, 0.0);
         let w = weight / weight_sum;
         for (j, value) in density.iter_mut().enumerate() {
             let ray: f64 = rows.iter().map(|r| r[j] as f64).sum();
