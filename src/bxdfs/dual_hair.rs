@@ -25,8 +25,8 @@
 //! frame that does not turn with the view ([`axis_from_reference`]).
 
 use super::hair::{
-    choose_lobe, divide_by_cos, pdf_within, sample_f_within, sample_longitudinal, wrap_angle,
-    HairBxDF, HairSample, Longitudinal, TrimmedLogistic, P_MAX,
+    choose_lobe, divide_by_cos, hair_model_bxdf_methods, sample_longitudinal, wrap_angle, HairBxDF,
+    HairSample, Longitudinal, TrimmedLogistic, P_MAX,
 };
 use super::hair_diffraction::{
     eq36_scale, fitted_scale, sample_spectral, spectral_density, spectral_pdf, ClosedFormLobe,
@@ -35,7 +35,7 @@ use super::hair_diffraction::{
 use super::hair_ellipse::{
     Attenuation, Ellipse, InternalFresnel, Optics, RayModel, Residual, Variant, LOBES,
 };
-use super::{BSDFSample, BxDFFlags, BxDFInterface, BxDFReflTransFlags, TransportMode};
+use super::{BxDFFlags, BxDFInterface};
 use crate::math::fast_atan2::fast_atan2;
 use crate::math::{safe_sqrt, sqr};
 use crate::spectrum::{SampledSpectrum, N_SPECTRUM_SAMPLES};
@@ -511,40 +511,7 @@ impl DualHairBxDF {
 }
 
 impl BxDFInterface for DualHairBxDF {
-    fn f(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> SampledSpectrum {
-        self.value(wo, wi)
-    }
-
-    fn sample_f(
-        &self,
-        wo: Vec3,
-        uc: f32,
-        u: Vec2,
-        _mode: TransportMode,
-        sample_flags: BxDFReflTransFlags,
-    ) -> Option<BSDFSample> {
-        sample_f_within(self.flags(), sample_flags, || self.sample(wo, uc, u))
-    }
-
-    fn pdf(
-        &self,
-        wo: Vec3,
-        wi: Vec3,
-        _mode: TransportMode,
-        sample_flags: BxDFReflTransFlags,
-    ) -> f32 {
-        pdf_within(self.flags(), sample_flags, || self.density(wo, wi))
-    }
-
-    fn f_and_pdf(
-        &self,
-        wo: Vec3,
-        wi: Vec3,
-        _mode: TransportMode,
-    ) -> (SampledSpectrum, Option<f32>) {
-        let (f, pdf) = self.value_and_density(wo, wi);
-        (f, Some(pdf))
-    }
+    hair_model_bxdf_methods!();
 
     /// pbrt's hair calls itself glossy reflection, so a light is sampled
     /// from a point offset towards ω_o by the curve's error bound (its

@@ -9,7 +9,7 @@
 //! `h` ∈ [−1, 1] is where the ray crossed the fibre's width.
 
 use super::fresnel::fr_dielectric;
-use super::{BSDFSample, BxDFFlags, BxDFInterface, BxDFReflTransFlags, TransportMode};
+use super::{BSDFSample, BxDFFlags, BxDFInterface, BxDFReflTransFlags};
 use crate::math::{safe_asin, safe_sqrt, sqr};
 use crate::spectrum::SampledSpectrum;
 use glam::{Vec2, Vec3};
@@ -878,41 +878,59 @@ impl CircularHairBxDF {
     }
 }
 
+/// The four [`BxDFInterface`] methods both hair models (pbrt-v4's circular
+/// one and the dual model) forward to their own `value`, `sample`,
+/// `density` and `value_and_density`; each impl adds its `flags` and
+/// `regularize`.
+macro_rules! hair_model_bxdf_methods {
+    () => {
+        fn f(
+            &self,
+            wo: glam::Vec3,
+            wi: glam::Vec3,
+            _mode: $crate::bxdfs::TransportMode,
+        ) -> $crate::spectrum::SampledSpectrum {
+            self.value(wo, wi)
+        }
+
+        fn sample_f(
+            &self,
+            wo: glam::Vec3,
+            uc: f32,
+            u: glam::Vec2,
+            _mode: $crate::bxdfs::TransportMode,
+            sample_flags: $crate::bxdfs::BxDFReflTransFlags,
+        ) -> Option<$crate::bxdfs::BSDFSample> {
+            $crate::bxdfs::hair::sample_f_within(self.flags(), sample_flags, || {
+                self.sample(wo, uc, u)
+            })
+        }
+
+        fn pdf(
+            &self,
+            wo: glam::Vec3,
+            wi: glam::Vec3,
+            _mode: $crate::bxdfs::TransportMode,
+            sample_flags: $crate::bxdfs::BxDFReflTransFlags,
+        ) -> f32 {
+            $crate::bxdfs::hair::pdf_within(self.flags(), sample_flags, || self.density(wo, wi))
+        }
+
+        fn f_and_pdf(
+            &self,
+            wo: glam::Vec3,
+            wi: glam::Vec3,
+            _mode: $crate::bxdfs::TransportMode,
+        ) -> ($crate::spectrum::SampledSpectrum, Option<f32>) {
+            let (f, pdf) = self.value_and_density(wo, wi);
+            (f, Some(pdf))
+        }
+    };
+}
+pub(crate) use hair_model_bxdf_methods;
+
 impl BxDFInterface for CircularHairBxDF {
-    fn f(&self, wo: Vec3, wi: Vec3, _mode: TransportMode) -> SampledSpectrum {
-        self.value(wo, wi)
-    }
-
-    fn sample_f(
-        &self,
-        wo: Vec3,
-        uc: f32,
-        u: Vec2,
-        _mode: TransportMode,
-        sample_flags: BxDFReflTransFlags,
-    ) -> Option<BSDFSample> {
-        sample_f_within(self.flags(), sample_flags, || self.sample(wo, uc, u))
-    }
-
-    fn pdf(
-        &self,
-        wo: Vec3,
-        wi: Vec3,
-        _mode: TransportMode,
-        sample_flags: BxDFReflTransFlags,
-    ) -> f32 {
-        pdf_within(self.flags(), sample_flags, || self.density(wo, wi))
-    }
-
-    fn f_and_pdf(
-        &self,
-        wo: Vec3,
-        wi: Vec3,
-        _mode: TransportMode,
-    ) -> (SampledSpectrum, Option<f32>) {
-        let (f, pdf) = self.value_and_density(wo, wi);
-        (f, Some(pdf))
-    }
+    hair_model_bxdf_methods!();
 
     /// pbrt-v4 flags hair as glossy reflection, though it also transmits
     /// (TT).
