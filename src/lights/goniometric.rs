@@ -14,7 +14,7 @@
 //! "poles" (its centre and corners) lie along the light's ±y axis: a
 //! goniometric diagram's vertical axis is y in pbrt's convention.
 
-use super::{LightLiSample, LightSampleContext, Radiance};
+use super::{LightLiSample, LightSampleContext};
 use crate::math::equal_area::equal_area_sphere_to_square;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use glam::{Mat3, Vec3};
@@ -63,24 +63,7 @@ impl GoniometricLight {
         ctx: &LightSampleContext,
         lambda: &SampledWavelengths,
     ) -> Option<LightLiSample<'_>> {
-        let d = self.position - ctx.p;
-        let dist2 = d.length_squared();
-        if dist2 == 0.0 {
-            return None;
-        }
-        let wi = d / dist2.sqrt();
-        let l = self.intensity_towards(-wi, lambda) / dist2;
-        if l.is_zero() {
-            return None;
-        }
-        Some(LightLiSample {
-            l: Radiance::Value(l),
-            wi,
-            pdf: 1.0,
-            p_light: self.position,
-            p_light_error: Vec3::ZERO,
-            n_light: Vec3::ZERO,
-        })
+        super::sample_point_source(self.position, ctx, |w| self.intensity_towards(w, lambda))
     }
 
     pub fn phi(&self, lambda: &SampledWavelengths) -> SampledSpectrum {

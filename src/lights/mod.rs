@@ -55,6 +55,36 @@ pub struct LightLiSample<'a> {
     pub n_light: Vec3,
 }
 
+/// [`LightLiSample`] towards a point source at `position` whose intensity
+/// towards a direction ω (leaving the light) is `intensity(ω)`: I(−ω_i)/d²
+/// along the one direction ω_i, density 1; none at the light itself or
+/// where it sends nothing. The spot, goniometric and projection lights
+/// differ only in `intensity`.
+pub(crate) fn sample_point_source<'a>(
+    position: Vec3,
+    ctx: &LightSampleContext,
+    intensity: impl FnOnce(Vec3) -> SampledSpectrum,
+) -> Option<LightLiSample<'a>> {
+    let d = position - ctx.p;
+    let dist2 = d.length_squared();
+    if dist2 == 0.0 {
+        return None;
+    }
+    let wi = d / dist2.sqrt();
+    let l = intensity(-wi) / dist2;
+    if l.is_zero() {
+        return None;
+    }
+    Some(LightLiSample {
+        l: Radiance::Value(l),
+        wi,
+        pdf: 1.0,
+        p_light: position,
+        p_light_error: Vec3::ZERO,
+        n_light: Vec3::ZERO,
+    })
+}
+
 /// A light sample's radiance: its value, or an environment map's texel to
 /// read once it is needed. Most of a hair's shadow rays are blocked, and
 /// the texel (a cache miss, and a spectrum to make) is wanted only for

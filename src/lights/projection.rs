@@ -15,7 +15,7 @@
 //! illuminant spectrum in the image's colour space (linear sRGB: the
 //! image readers here carry no colour space, and that is pbrt-v4's default).
 
-use super::{LightLiSample, LightSampleContext, Radiance};
+use super::{LightLiSample, LightSampleContext};
 use crate::spectrum::color_space::RgbColorSpace;
 use crate::spectrum::{DenselySampled, RgbSigmoidPolynomial, SampledSpectrum, SampledWavelengths};
 use glam::{Mat3, Vec2, Vec3};
@@ -167,24 +167,7 @@ impl ProjectionLight {
         ctx: &LightSampleContext,
         lambda: &SampledWavelengths,
     ) -> Option<LightLiSample<'_>> {
-        let d = self.position - ctx.p;
-        let dist2 = d.length_squared();
-        if dist2 == 0.0 {
-            return None;
-        }
-        let wi = d / dist2.sqrt();
-        let l = self.intensity_towards(-wi, lambda) / dist2;
-        if l.is_zero() {
-            return None;
-        }
-        Some(LightLiSample {
-            l: Radiance::Value(l),
-            wi,
-            pdf: 1.0,
-            p_light: self.position,
-            p_light_error: Vec3::ZERO,
-            n_light: Vec3::ZERO,
-        })
+        super::sample_point_source(self.position, ctx, |w| self.intensity_towards(w, lambda))
     }
 
     /// Pixel centres in image order, with their uv.

@@ -9,7 +9,7 @@
 //! | `coneangle` | float | 30 | total cone half-angle in degrees |
 //! | `conedeltaangle` | float | 5 | angle of the smooth falloff at the cone's edge |
 
-use super::{LightLiSample, LightSampleContext, Radiance};
+use super::{LightLiSample, LightSampleContext};
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use glam::Vec3;
 use std::f32::consts::PI;
@@ -43,23 +43,8 @@ impl SpotLight {
         ctx: &LightSampleContext,
         lambda: &SampledWavelengths,
     ) -> Option<LightLiSample<'_>> {
-        let d = self.position - ctx.p;
-        let dist2 = d.length_squared();
-        if dist2 == 0.0 {
-            return None;
-        }
-        let wi = d / dist2.sqrt();
-        let l = self.emitted((-wi).dot(self.axis), lambda) / dist2;
-        if l.is_zero() {
-            return None;
-        }
-        Some(LightLiSample {
-            l: Radiance::Value(l),
-            wi,
-            pdf: 1.0,
-            p_light: self.position,
-            p_light_error: Vec3::ZERO,
-            n_light: Vec3::ZERO,
+        super::sample_point_source(self.position, ctx, |w| {
+            self.emitted(w.dot(self.axis), lambda)
         })
     }
 
