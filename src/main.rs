@@ -1,9 +1,11 @@
 //! The `rpbrt` command line. Only argument dispatch lives here: each
-//! command's arguments and work are in `rpbrt::tools`.
+//! command's arguments and work are in `rpbrt::tools`; `report` and
+//! `convergence` are run by the benchmark harness, the `rpbrt-bench`
+//! executable (`tools::bench_handoff`).
 
 use clap::Parser as _;
 use rpbrt::tools::{
-    bcsdf, convergence, cyhair2pbrt, hairgen, imgtool, mie, render_scene, report, reproduce,
+    bcsdf, bench_handoff, cyhair2pbrt, hairgen, imgtool, mie, render_scene, reproduce,
 };
 use std::process::ExitCode;
 
@@ -28,8 +30,10 @@ struct Cli {
 #[derive(clap::Subcommand, Debug)]
 enum Command {
     Imgtool(imgtool::ImgtoolArgs),
-    Convergence(convergence::ConvergenceArgs),
-    Report(report::ReportArgs),
+    /// Error against time of a scene's renders, log–log (run by rpbrt-bench).
+    Convergence(bench_handoff::HandOffArgs),
+    /// Measure the shared reference scenes against pbrt-v4 into docs/performance.md (run by rpbrt-bench).
+    Report(bench_handoff::HandOffArgs),
     /// The dual hair model's azimuthal scattering maps and diffraction spectra.
     Bcsdf(bcsdf::BcsdfArgs),
     /// Writes a CyHair (.hair) file as pbrt-v4 curves.
@@ -58,8 +62,8 @@ fn main() -> ExitCode {
             1,
         ),
         Some(Command::Imgtool(args)) => (imgtool::run(args), imgtool::ERROR_EXIT_CODE),
-        Some(Command::Convergence(args)) => (convergence::run(args).map(|()| ExitCode::SUCCESS), 1),
-        Some(Command::Report(args)) => (report::run(args).map(|()| ExitCode::SUCCESS), 1),
+        Some(Command::Convergence(args)) => (bench_handoff::run("convergence", args), 1),
+        Some(Command::Report(args)) => (bench_handoff::run("report", args), 1),
         Some(Command::Bcsdf(args)) => (
             bcsdf::run(args)
                 .map(|()| ExitCode::SUCCESS)

@@ -1,6 +1,7 @@
 //! The measuring tools as a user runs them: `rpbrt imgtool diff|assemble`,
-//! `rpbrt convergence`, and a frame split into `--pixelbounds` tiles
-//! rendered by separate processes (docs/scaling.md).
+//! a frame split into `--pixelbounds` tiles rendered by separate processes
+//! (docs/scaling.md), and `rpbrt report|convergence` handing off to the
+//! benchmark harness (whose own tests are in `bench/tests/`).
 mod common;
 use common::rpbrt;
 
@@ -183,50 +184,44 @@ fn four_tiles_in_four_processes_assemble_to_the_single_render() {
     assert!(b.iter().any(|&v| v > 0.0));
 }
 
-/// Nothing emits, so the radiance is 0 everywhere at any spp: the error
-/// must be exactly zero at every spp and seed.
+/// `rpbrt report` and `rpbrt convergence` run the `rpbrt-bench` beside
+/// the `rpbrt` executable: with a stand-in harness (a script printing its
+/// arguments and exiting 7) the arguments arrive unread, `--help` among
+/// them, and its exit status comes back; without one, the error says how
+/// to build it.
+#[cfg(unix)]
 #[test]
-fn convergence_on_a_constant_scene_has_zero_error() {
-    let dir = temp_dir("convergence");
-    let scene = dir.join("black.pbrt");
-    std::fs::write(
-        &scene,
-        "Film \"rgb\" \"integer xresolution\" 16 \"integer yresolution\" 12\n\
-         Camera \"perspective\"\nWorldBegin\n\
-         Material \"diffuse\"\nShape \"sphere\" \"float radius\" 100\n",
-    )
-    .unwrap();
-    let reference = dir.join("black-ref.pfm");
-    write_rgb(&reference, 16, 12, vec![0.0; 16 * 12 * 3]);
-    let out_dir = dir.join("out");
-    let out = rpbrt(&[
-        "convergence".as_ref(),
-        scene.as_os_str(),
-        "--reference".as_ref(),
-        reference.as_os_str(),
-        "--spp".as_ref(),
-        "1,4,16".as_ref(),
-        "--repeat".as_ref(),
-        "2".as_ref(),
-        "--quiet".as_ref(),
-        "--out".as_ref(),
-        out_dir.as_os_str(),
-    ]);
-    assert!(out.status.success(), "{out:?}");
-    let csv = std::fs::read_to_string(out_dir.join("convergence.csv")).unwrap();
-    let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
-    let mrse_column = header
-        .iter()
-        .position(|h| *h == "mrse")
-        .expect("an mrse column");
-    let rows: Vec<Vec<&str>> = csv
-        .lines()
-        .skip(1)
-        .map(|l| l.split(',').collect())
-        .collect();
-    assert_eq!(rows.len(), 6, "3 spp × 2 seeds:\n{csv}");
-    for row in &rows {
-        assert_eq!(row[mrse_column].parse::<f64>().unwrap(), 0.0, "{csv}");
+fn report_and_convergence_hand_off_to_the_harness() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = temp_dir("handoff");
+    let exe = dir.join("rpbrt");
+    std::fs::copy(env!("CARGO_BIN_EXE_rpbrt"), &exe).unwrap();
+    let run = |args: &[&str]| Command::new(&exe).args(args).output().unwrap();
+
+    let out = run(&["report", "--pbrt", "/x/pbrt"]);
+    assert_eq!(out.status.code(), Some(1), "{out:?}");
+    let error = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        error.contains("rpbrt-bench") && error.contains("cargo build --release -p rpbrt-bench"),
+        "{error}"
+    );
+
+    let harness = dir.join("rpbrt-bench");
+    std::fs::write(&harness, "#!/bin/sh\necho \"$@\"\nexit 7\n").unwrap();
+    std::fs::set_permissions(&harness, std::fs::Permissions::from_mode(0o755)).unwrap();
+    for (args, passed) in [
+        (
+            &["report", "--pbrt", "/x/pbrt"][..],
+            "report --pbrt /x/pbrt",
+        ),
+        (&["report", "--help"][..], "report --help"),
+        (
+            &["convergence", "s.pbrt", "--spp", "1,4", "-q"][..],
+            "convergence s.pbrt --spp 1,4 -q",
+        ),
+    ] {
+        let out = run(args);
+        assert_eq!(out.status.code(), Some(7), "{args:?}: {out:?}");
+        assert_eq!(stdout(&out).trim(), passed);
     }
-    assert!(out_dir.join("convergence.png").exists());
 }

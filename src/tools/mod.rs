@@ -1,12 +1,13 @@
 //! Tools around rendering: the command-line commands (each with its clap
-//! arguments and its `run`), image comparison, convergence runs and the
-//! performance report, and generated test scenes.
+//! arguments and its `run`), image comparison, plots, and generated test
+//! scenes. The benchmark harness (convergence runs, the performance
+//! report) is the `rpbrt-bench` crate in `bench/`, which uses these;
+//! `bench_handoff` runs it for `rpbrt report` and `rpbrt convergence`.
 
 pub mod bcsdf;
-pub mod convergence;
+pub mod bench_handoff;
 pub mod curvegen;
 pub mod cyhair2pbrt;
-pub mod dual_overhead;
 pub mod flip;
 pub mod hairgen;
 pub mod heat_map;
@@ -16,16 +17,13 @@ pub mod mie;
 pub mod mie_compare;
 pub mod peak_memory;
 pub mod plot;
-pub mod provenance;
 pub mod render_scene;
-pub mod report;
 pub mod reproduce;
-pub mod steal;
 
 /// A progress bar of `total` steps in indicatif's `template`, or a hidden
 /// one where it would not help (`visible` false: stderr is not a terminal,
-/// or the work is too small to watch).
-pub(crate) fn progress_bar(total: u64, template: &str, visible: bool) -> indicatif::ProgressBar {
+/// or the work is too small to watch). Public for the benchmark harness.
+pub fn progress_bar(total: u64, template: &str, visible: bool) -> indicatif::ProgressBar {
     if !visible {
         return indicatif::ProgressBar::hidden();
     }

@@ -1,5 +1,5 @@
-//! Log–log line plots drawn straight into an image (for convergence
-//! curves): decade grid and tick labels, one polyline with markers per
+//! Log–log line plots drawn straight into an image (the benchmark
+//! harness's convergence curves, `bcsdf --compare-mie`'s): decade grid and tick labels, one polyline with markers per
 //! series, a legend. Text uses a small built-in 5 × 7 pixel font covering
 //! the characters the tools print.
 

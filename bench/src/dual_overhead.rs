@@ -1,5 +1,6 @@
 //! The dual hair model's render time against pbrt-v4's circular hair (the
-//! form of the paper's Table 2), for `rpbrt report`.
+//! form of the paper's Table 2), for `rpbrt report`. The section's prose
+//! is `bench/templates/dual-overhead.md`.
 //!
 //! The variants are the shipped scene `pbrt-scenes/hair-dual-circular.pbrt`
 //! (pbrt-v4's hair on 400 strands) with only the material's dual-model
@@ -24,12 +25,24 @@
 //! (the paper's §7 says the same), which is the scene's light transport
 //! rather than the model's per-hit cost.
 
-use super::convergence;
-use super::io_error;
-use crate::error::Error;
-use crate::integrators::RayCounts;
+use crate::convergence;
+use crate::error::{io_error, Error};
+use crate::executable::rpbrt_executable;
+use crate::provenance::{commit, machine, today};
+use crate::template::Template;
+use rpbrt::integrators::RayCounts;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
+
+/// The section's prose.
+const TEMPLATE: Template = Template {
+    name: "bench/templates/dual-overhead.md",
+    text: include_str!("../templates/dual-overhead.md"),
+};
+
+/// How the section begins (both template parts do): where `--dual-only`
+/// puts the new section.
+const HEADING: &str = "## Dual model overhead";
 use std::process::{Child, Command, Stdio};
 
 /// Samples per pixel of the full-head pair.
@@ -66,18 +79,13 @@ struct Stats {
 
 /// The table, as a Markdown section.
 pub fn section(settings: &Settings) -> Result<String, Error> {
-    let mut text = String::from("## Dual model overhead (the paper's Table 2)\n\n");
     let work = settings.work.join("dual");
     std::fs::create_dir_all(&work).map_err(io_error(&work))?;
     let Some(mut pairs) = strand_pairs(&work, settings.spp)? else {
-        let _ = writeln!(
-            text,
-            "Not measured: `pbrt-scenes/hair-dual-circular.pbrt` or `pbrt-scenes/hair-dual-strands.pbrt` is missing."
-        );
-        return Ok(text);
+        return TEMPLATE.fill("missing", &[]);
     };
     pairs.extend(full_head_pair(settings.shared, &work)?);
-    let exe = std::env::current_exe().map_err(io_error(Path::new("<rpbrt executable>")))?;
+    let exe = rpbrt_executable()?;
     let rounds = settings.rounds.max(1);
     // One pair per core at a time (unpinned, one pair at a time, where the
     // cores cannot be told).
@@ -109,33 +117,7 @@ pub fn section(settings: &Settings) -> Result<String, Error> {
             }
         }
     }
-    let _ = writeln!(
-        text,
-        "Measured {} at commit {} on {} (`rpbrt report --dual-only`, src/tools/dual_overhead.rs). Each row \
-         compares a variant with its circular twin (pbrt-v4's hair on the same curves): the two rendered by two \
-         processes with one thread each and the same seed, **at the same time on the same core**, so that \
-         whatever the core's speed does falls on both alike; the time is the CPU time of each render loop (no \
-         parse or build). A round runs one such pair on each of the {} cores (seeds 100, 101, …); the ratio is the \
-         median of the {} pairs' ratios, with the lowest and highest. (Two identical renders measured this way \
-         differ by 0.7 % (standard deviation); one after the other, or on the two cores at once, by 5–7 % on these \
-         machines.) The strand rows are `pbrt-scenes/hair-dual-circular.pbrt` at {} spp with the material's \
-         dual-model parameters varied; d_diff widens the curves by 1 + d_diff, so those rows' twin is circular \
-         hair on curves that wide. The rays columns (closest-hit, shadow) compare the two renders' paths: light \
-         through the diffracting ring is not absorbed, so paths run longer (the paper's §7 notes the same) — the \
-         scene's light transport, not the model's cost per hit. The last column takes that out: each pair's time \
-         ratio over its closest-hit ray ratio (median of the pairs).\n",
-        super::provenance::today(),
-        super::provenance::commit(),
-        super::provenance::machine(),
-        cores.len(),
-        rounds as usize * cores.len(),
-        settings.spp
-    );
-    let _ = writeln!(
-        text,
-        "| variant | its circular twin | spp | render CPU s (variant, median) | time vs twin | closest-hit rays vs twin | shadow rays vs twin | time per closest-hit ray vs twin |\n\
-         |---|---|---|---|---|---|---|---|"
-    );
+    let mut rows = String::new();
     for (pair, rounds) in pairs.iter().zip(&measured) {
         let ratios: Vec<f64> = rounds
             .iter()
@@ -163,7 +145,7 @@ pub fn section(settings: &Settings) -> Result<String, Error> {
                 .collect(),
         );
         let _ = writeln!(
-            text,
+            rows,
             "| {} | {} | {} | {seconds:.2} | **{:.3}×** ({lowest:.3}–{highest:.3}) | {:.3}× | {:.3}× | {per_ray:.3}× |",
             pair.label,
             pair.twin,
@@ -173,11 +155,22 @@ pub fn section(settings: &Settings) -> Result<String, Error> {
             rays(|r| r.shadow)
         );
     }
-    Ok(text)
+    TEMPLATE.fill(
+        "measured",
+        &[
+            ("date", &today()),
+            ("commit", &commit()),
+            ("machine", &machine()),
+            ("cores", &cores.len()),
+            ("pairs", &(rounds as usize * cores.len())),
+            ("spp", &settings.spp),
+            ("rows", &rows.trim_end()),
+        ],
+    )
 }
 
 fn median(values: Vec<f64>) -> f64 {
-    super::provenance::median(values).unwrap_or(0.0)
+    crate::provenance::median(values).unwrap_or(0.0)
 }
 
 /// A child `rpbrt --stats` render with one thread, on `core` when given.
@@ -282,7 +275,7 @@ fn parse_stats(text: &str) -> Option<Stats> {
 
 /// The strand scene's pairs (None when the shipped scenes are missing).
 fn strand_pairs(work: &Path, spp: u32) -> Result<Option<Vec<Pair>>, Error> {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("pbrt-scenes");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../pbrt-scenes");
     let circular = root.join("hair-dual-circular.pbrt");
     let strands = root.join("hair-dual-strands.pbrt");
     let (Ok(scene_text), Ok(strands_text)) = (
@@ -296,7 +289,7 @@ fn strand_pairs(work: &Path, spp: u32) -> Result<Option<Vec<Pair>>, Error> {
     const INCLUDE: &str = "Include \"hair-dual-strands.pbrt\"";
     if !scene_text.contains(MATERIAL) || !scene_text.contains(INCLUDE) {
         return Err(Error::Usage(format!(
-            "{}: its material or Include line changed; update src/tools/dual_overhead.rs",
+            "{}: its material or Include line changed; update bench/src/dual_overhead.rs",
             circular.display()
         )));
     }
@@ -386,7 +379,7 @@ fn full_head_pair(shared: &Path, work: &Path) -> Result<Option<Pair>, Error> {
     };
     if !scene_text.contains(MATERIAL) {
         return Err(Error::Usage(format!(
-            "{}: its material line changed; update src/tools/dual_overhead.rs",
+            "{}: its material line changed; update bench/src/dual_overhead.rs",
             scene.display()
         )));
     }
@@ -439,9 +432,7 @@ fn scale_widths(text: &str, factor: f64) -> Result<String, Error> {
 /// `report` text with its dual-model section replaced by `section` (or
 /// `section` appended when it has none): the section is the report's last.
 pub fn splice(report: &str, section: &str) -> String {
-    let start = report
-        .find("## Dual model overhead")
-        .unwrap_or(report.len());
+    let start = report.find(HEADING).unwrap_or(report.len());
     format!("{}{section}", &report[..start])
 }
 
@@ -477,6 +468,34 @@ mod tests {
             parse_stats("render: x s\nrays: 1 closest-hit, 2 shadow\n"),
             None
         );
+    }
+
+    #[test]
+    fn the_template_fills_and_begins_with_the_heading() {
+        let missing = TEMPLATE.fill("missing", &[]).unwrap();
+        let x = "X";
+        let measured = TEMPLATE
+            .fill(
+                "measured",
+                &[
+                    ("date", &x),
+                    ("commit", &x),
+                    ("machine", &x),
+                    ("cores", &2),
+                    ("pairs", &20),
+                    ("spp", &32),
+                    ("rows", &"| row |"),
+                ],
+            )
+            .unwrap();
+        for text in [&missing, &measured] {
+            assert!(text.starts_with(HEADING), "{text}");
+        }
+        assert!(measured.contains("each of the 2 cores") && measured.contains("the 20 pairs'"));
+        assert!(measured.ends_with("|---|\n| row |\n"), "{measured}");
+        // Splicing a fresh section into a report that has one keeps one.
+        let report = format!("# P\n\n{missing}");
+        assert_eq!(splice(&report, &measured).matches(HEADING).count(), 1);
     }
 
     #[test]

@@ -9,15 +9,14 @@
 //! scene), so process start-up (a few ms) is not counted. pbrt-v4 runs as a
 //! child process timed from spawn to exit (its whole process).
 
-use super::io_error;
-use super::plot::{log_log_plot, Series, BLUE, ORANGE};
-use super::steal::time_without_steal;
-use crate::error::Error;
-use crate::image::Image;
-use crate::pipeline::render_file;
-use crate::scene::build::RenderOverrides;
-use crate::tools::imgdiff::mrse;
-use indicatif::{ProgressBar, ProgressStyle};
+use crate::error::{io_error, Error};
+use crate::steal::time_without_steal;
+use rpbrt::image::Image;
+use rpbrt::pipeline::render_file;
+use rpbrt::scene::build::RenderOverrides;
+use rpbrt::tools::imgdiff::mrse;
+use rpbrt::tools::plot::{log_log_plot, Series, BLUE, ORANGE};
+use rpbrt::tools::progress_bar;
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -73,7 +72,7 @@ pub struct Run {
     pub spp: u32,
     pub seed: i32,
     /// Whole render, wall clock less the time the virtual machine's CPUs
-    /// were stolen meanwhile (see [`super::steal`]); curves and ratios use
+    /// were stolen meanwhile (see [`crate::steal`]); curves and ratios use
     /// this.
     pub seconds: f64,
     /// Of the wall clock, the time lost to steal.
@@ -113,16 +112,11 @@ pub fn measure(m: &Measurement) -> Result<Vec<Run>, Error> {
         .chain(m.pbrt.map(|_| Renderer::Pbrt))
         .collect();
     let total = (renderers.len() * m.spp.len() * m.repeat as usize) as u64;
-    let bar = if m.progress {
-        let bar = ProgressBar::new(total);
-        bar.set_style(
-            ProgressStyle::with_template("{bar:30} {pos}/{len} renders, {elapsed} {msg}")
-                .unwrap_or_else(|_| ProgressStyle::default_bar()),
-        );
-        bar
-    } else {
-        ProgressBar::hidden()
-    };
+    let bar = progress_bar(
+        total,
+        "{bar:30} {pos}/{len} renders, {elapsed} {msg}",
+        m.progress,
+    );
     let mut runs = Vec::new();
     for &spp in m.spp {
         for k in 0..m.repeat.max(1) {
@@ -144,6 +138,7 @@ pub fn measure(m: &Measurement) -> Result<Vec<Run>, Error> {
                             };
                             render_file(m.scene, &overrides, m.threads, false)
                                 .map(|r| (Some(r.parse.as_secs_f64()), Some(r.build.as_secs_f64())))
+                                .map_err(Error::from)
                         }
                     });
                 let (parse_seconds, build_seconds) = timings?;

@@ -1,0 +1,36 @@
+//! The `rpbrt-bench` command line: `convergence` and `report`, also run as
+//! `rpbrt convergence` and `rpbrt report`. Argument dispatch only.
+
+use clap::Parser as _;
+use rpbrt_bench::{convergence, report};
+use std::process::ExitCode;
+
+/// rpbrt's benchmark harness: error against time, and the performance
+/// report against pbrt-v4.
+#[derive(clap::Parser, Debug)]
+#[command(name = "rpbrt-bench", version, about)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(clap::Subcommand, Debug)]
+enum Command {
+    Convergence(convergence::ConvergenceArgs),
+    Report(report::ReportArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let outcome = match &cli.command {
+        Command::Convergence(args) => convergence::run(args),
+        Command::Report(args) => report::run(args),
+    };
+    match outcome {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
