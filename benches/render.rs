@@ -44,7 +44,7 @@ fn mesh_scene(n: usize) -> String {
 
 fn built(text: &str) -> BuiltScene {
     let loaded = rpbrt::scene::load_text(Path::new("bench.pbrt"), text).unwrap();
-    build(&loaded.scene, &RenderOverrides::default()).unwrap()
+    build(loaded.scene, &RenderOverrides::default()).unwrap()
 }
 
 /// Rays from a grid of origins above the scene towards it.

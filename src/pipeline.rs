@@ -57,7 +57,8 @@ pub fn render_file(
     });
     let loaded = crate::scene::load(path)?;
     let parse = start.elapsed();
-    let built = build(&loaded.scene, overrides)?;
+    let options = loaded.scene.options.clone();
+    let built = build(loaded.scene, overrides)?;
     let mut warnings: Vec<String> = loaded.warnings.iter().map(|w| w.to_string()).collect();
     warnings.extend(built.warnings.iter().map(|w| w.to_string()));
     check_window(&built.film, overrides, &mut warnings)?;
@@ -67,7 +68,6 @@ pub fn render_file(
     let spp = built.sampler.samples_per_pixel();
     let bad = AtomicU64::new(0);
     let rays = Mutex::new(RayCounts::default());
-    let options = &loaded.scene.options;
     let (wavelength_jitter, pixel_jitter) = (
         !options.disable_wavelength_jitter,
         !options.disable_pixel_jitter,

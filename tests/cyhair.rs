@@ -130,7 +130,7 @@ fn scene_file(dir: &Path, name: &str, material: &str, geometry: &str) -> PathBuf
 
 fn built(path: &Path) -> BuiltScene {
     let loaded = rpbrt::scene::load(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    build(&loaded.scene, &RenderOverrides::default())
+    build(loaded.scene, &RenderOverrides::default())
         .unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
 

@@ -13,7 +13,7 @@ const CURVE: &str = "Shape \"curve\" \"point3 P\" [ 0 0 5  1 0 5  2 0 5  3 0 5 ]
 fn built(body: &str) -> scene::build::BuiltScene {
     let loaded =
         scene::load_text(Path::new("hair.pbrt"), &format!("{HEADER}{body}")).expect("loads");
-    scene::build::build(&loaded.scene, &RenderOverrides::default()).expect("builds")
+    scene::build::build(loaded.scene, &RenderOverrides::default()).expect("builds")
 }
 
 /// The hit of the ray from `origin` along +z and the BSDF there (at
@@ -40,7 +40,7 @@ fn bsdf_at(
 fn build(material: &str) -> Result<(), String> {
     let text = format!("{HEADER}{material}\nShape \"curve\" \"point3 P\" [ 0 0 0  1 0 0  2 0 0  3 0 0 ] \"float width\" 0.1\n");
     let loaded = scene::load_text(Path::new("hair.pbrt"), &text).map_err(|e| e.to_string())?;
-    scene::build::build(&loaded.scene, &RenderOverrides::default())
+    scene::build::build(loaded.scene, &RenderOverrides::default())
         .map(|_| ())
         .map_err(|e| e.to_string())
 }
@@ -163,7 +163,7 @@ fn a_diffracting_ring_needs_a_curve() {
         "{HEADER}Material \"hair\" \"float d_diff\" 0.5\nShape \"sphere\" \"float radius\" 1\n"
     );
     let loaded = scene::load_text(Path::new("hair.pbrt"), &text).expect("loads");
-    let err = scene::build::build(&loaded.scene, &RenderOverrides::default())
+    let err = scene::build::build(loaded.scene, &RenderOverrides::default())
         .map(|_| ())
         .expect_err("a ring on a sphere")
         .to_string();

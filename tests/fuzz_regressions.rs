@@ -13,7 +13,7 @@ fn build_text(text: &str) -> rpbrt::Result<BuiltScene> {
         outfile: Some("/nonexistent-rpbrt-fuzz/out.exr".into()),
         ..Default::default()
     };
-    build(&loaded.scene, &overrides)
+    build(loaded.scene, &overrides)
 }
 
 /// `scene` target, its first input: a grid of triangles with one vertex

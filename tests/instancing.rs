@@ -126,7 +126,7 @@ fn build(world: &str) -> rpbrt::error::Result<rpbrt::scene::build::BuiltScene> {
         "Film \"rgb\" \"integer xresolution\" 8 \"integer yresolution\" 8\nWorldBegin\n{world}"
     );
     let loaded = rpbrt::scene::load_text(std::path::Path::new("instancing.pbrt"), &text)?;
-    rpbrt::scene::build::build(&loaded.scene, &Default::default())
+    rpbrt::scene::build::build(loaded.scene, &Default::default())
 }
 
 /// Objects used twice are instanced, an object used once is flattened,

@@ -178,7 +178,7 @@ fn unreadable_file_error(path: &Path, text: &str) -> Result<String, String> {
     std::fs::write(path, text).map_err(|e| e.to_string())?;
     let built = std::panic::catch_unwind(|| {
         let loaded = scene::load(path)?;
-        scene::build::build(&loaded.scene, &Default::default()).map(|_| ())
+        scene::build::build(loaded.scene, &Default::default()).map(|_| ())
     })
     .map_err(|_| format!("panicked on {text:?}"))?;
     match built {

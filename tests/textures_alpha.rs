@@ -160,7 +160,7 @@ fn imagemap_and_alpha_errors_name_their_directive() {
         let text = format!("{VIEW}WorldBegin\n{world}");
         std::fs::write(&path, &text).unwrap();
         let loaded = rpbrt::scene::load(&path).unwrap();
-        match rpbrt::scene::build::build(&loaded.scene, &RenderOverrides::default()) {
+        match rpbrt::scene::build::build(loaded.scene, &RenderOverrides::default()) {
             Ok(_) => panic!("no error for {world:?}"),
             Err(e) => e.to_string(),
         }

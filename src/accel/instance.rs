@@ -15,6 +15,7 @@
 //! hop and no trait object per ray: an instance is a transform and an
 //! object index.
 
+use super::bvh::BuildBox;
 use super::Bvh;
 use crate::interaction::SurfaceInteraction;
 use crate::math::{Bounds3, Ray, Transform};
@@ -161,20 +162,21 @@ impl InstanceAccel {
 }
 
 /// BVHs over a primitive array laid out as `[top level | object 0 | object
-/// 1 | …]`: one over `0..top_count`, one per object range. Returns the
-/// top-level BVH, the objects' BVHs (reporting indices into the array) and
-/// the new order of the whole array (each range reordered in place).
+/// 1 | …]`: one over `0..top_count`, one per object range, from the
+/// primitives' boxes ([`super::bvh::build_box`]). Returns the top-level
+/// BVH, the objects' BVHs (reporting indices into the array) and the new
+/// order of the whole array (each range reordered in place).
 pub fn build_levels(
-    bounds: &[Bounds3],
+    boxes: &[BuildBox],
     top_count: usize,
     object_ranges: &[Range<usize>],
 ) -> (Bvh, Vec<Bvh>, Vec<u32>) {
-    let (top, top_order) = Bvh::build(&bounds[..top_count]);
+    let (top, top_order) = Bvh::build_from_boxes(&boxes[..top_count], 0);
     let mut order = top_order;
     let mut objects = Vec::with_capacity(object_ranges.len());
     for range in object_ranges {
         let first = range.start as u32;
-        let (bvh, local) = Bvh::build_from(&bounds[range.clone()], first);
+        let (bvh, local) = Bvh::build_from_boxes(&boxes[range.clone()], first);
         order.extend(local.iter().map(|&i| first + i));
         objects.push(bvh);
     }

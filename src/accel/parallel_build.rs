@@ -46,6 +46,7 @@ pub fn build_cwbvh_in_parts(
     let centroids: Vec<Vec3A> = aabbs.par_iter().map(|b| b.center()).collect();
     let mut order: Vec<u32> = (0..aabbs.len() as u32).collect();
     let groups = split_at_medians(&mut order, &centroids, GROUPS);
+    drop(centroids);
 
     let parts: Vec<CwBvh> = groups
         .par_iter()
@@ -116,7 +117,10 @@ fn split_at_medians<'a>(
 /// octant are obvhs's own); its eight leaves then become inner children.
 /// None if obvhs does not put all eight boxes in one node.
 fn join_under_root(parts: Vec<CwBvh>) -> Option<CwBvh> {
-    let part_boxes: Vec<Aabb> = parts.iter().map(|p| p.total_aabb).collect();
+    // Each part is freed once copied: the joined tree does not sit beside
+    // all of them.
+    let mut parts: Vec<Option<CwBvh>> = parts.into_iter().map(Some).collect();
+    let part_boxes: Vec<Aabb> = parts.iter().flatten().map(|p| p.total_aabb).collect();
     let top = PlocBuilder::with_capacity(part_boxes.len()).build(
         obvhs::ploc::PlocSearchDistance::Minimum,
         &part_boxes,
@@ -138,8 +142,8 @@ fn join_under_root(parts: Vec<CwBvh>) -> Option<CwBvh> {
             part_in_slot[slot] = *top.primitive_indices.get(k)? as usize;
         }
     }
-    let node_count: usize = parts.iter().map(|p| p.nodes.len()).sum::<usize>() + 1;
-    let prim_count: usize = parts.iter().map(|p| p.primitive_indices.len()).sum();
+    let node_count: usize = parts.iter().flatten().map(|p| p.nodes.len()).sum::<usize>() + 1;
+    let prim_count: usize = parts.iter().flatten().map(|p| p.primitive_indices.len()).sum();
     let mut nodes = Vec::with_capacity(node_count);
     let mut primitive_indices = Vec::with_capacity(prim_count);
     // Layout: the root, the parts' roots in slot order (a node's inner
@@ -154,7 +158,7 @@ fn join_under_root(parts: Vec<CwBvh>) -> Option<CwBvh> {
         .filter(|&&p| p != usize::MAX)
         .enumerate()
     {
-        let part = &parts[p];
+        let part = parts[p].take()?;
         total = total.union(&part.total_aabb);
         // Part node k ≥ 1 moves to rest_base + k − 1; its root to 1 + rank.
         let node_shift = rest_base as u32 - 1;

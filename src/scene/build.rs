@@ -5,6 +5,7 @@
 use super::alpha;
 use super::placed_shapes;
 use crate::accel::instance::{build_levels, InstanceAccel};
+use crate::accel::bvh::{build_box, BuildBox};
 use crate::accel::Bvh;
 use crate::cameras::Camera;
 use crate::error::{scene_error, Result};
@@ -334,19 +335,23 @@ impl BuiltScene {
 /// and the scene's own lights ([`create_primitives_and_lights`]), the
 /// accelerator ([`create_aggregate`]), and the lights' preprocessing and
 /// sampler ([`prepare_lights`]).
-pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<BuiltScene> {
+pub fn build(mut description: SceneDescription, overrides: &RenderOverrides) -> Result<BuiltScene> {
     let mut warnings = Vec::new();
-    let base = &scene.base_directory;
-    check_supported(scene)?;
+    check_supported(&description)?;
 
     let View {
         camera,
         film,
         sampler,
         filter,
-    } = create_view(scene, overrides)?;
+    } = create_view(&description, overrides)?;
     let render_from_world = camera.transform().render_from_world;
-    let mut integrator = integrator_settings(scene)?;
+    let mut integrator = integrator_settings(&description)?;
+    // The plan takes the shapes out of the description: each is freed as
+    // soon as it is made (`placed_shapes::create`).
+    let plan = super::instancing::plan(&mut description, &render_from_world, &mut warnings)?;
+    let scene = &description;
+    let base = &scene.base_directory;
 
     let textures = create_textures(scene, &render_from_world)?;
     // Differentials are only worth computing when some texture varies.
@@ -369,7 +374,6 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
         base,
     ));
 
-    let plan = super::instancing::plan(scene, &render_from_world, &mut warnings)?;
     let context = placed_shapes::Context {
         scene,
         render_from_world: &render_from_world,
@@ -377,6 +381,7 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
         materials: &materials,
         named_materials: &named_index,
         base,
+        flattened: &plan.flattened,
     };
     let Primitives {
         mut shapes,
@@ -385,14 +390,25 @@ pub fn build(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<Bu
         alpha_textures,
         group_ends,
         placed_ends,
-    } = create_primitives_and_lights(&plan, &context, &mut warnings)?;
+    } = create_primitives_and_lights(plan.placements, plan.object_count, &context, &mut warnings)?;
+    // What the shapes' runs and the bounds freed goes back before the
+    // BVH's arrays come.
+    crate::memory::return_freed_memory();
+    let bounds = primitive_bounds(&primitives, &shapes, &placed_ends)?;
+    crate::memory::return_freed_memory();
 
     let Aggregate {
         bvh,
         instances,
         primitives,
         curve_lookup,
-    } = create_aggregate(primitives, &mut shapes, &group_ends, &placed_ends, &plan)?;
+    } = create_aggregate(
+        primitives,
+        bounds,
+        &mut shapes,
+        &group_ends,
+        &plan.instances,
+    )?;
 
     let (infinite_lights, light_sampler) =
         prepare_lights(scene, &mut lights, &shapes, &bvh, &instances)?;
@@ -574,7 +590,7 @@ fn create_materials<'s>(
 /// What the primitives phase makes: shapes and their primitives in
 /// placement order (not yet BVH order), every light, and where each
 /// group and each Shape directive's primitives end.
-struct Primitives<'s> {
+struct Primitives {
     shapes: ShapeStorage,
     primitives: Vec<Primitive>,
     lights: Vec<Light>,
@@ -583,7 +599,7 @@ struct Primitives<'s> {
     group_ends: Vec<usize>,
     /// Where each Shape directive's primitives end, and its location (for
     /// the bounds check of [`create_aggregate`]).
-    placed_ends: Vec<(usize, &'s pbrt_parser::Location)>,
+    placed_ends: Vec<(usize, pbrt_parser::Location)>,
 }
 
 /// The primitives phase (the shapes half of pbrt-v4's `CreateAggregate`,
@@ -592,10 +608,11 @@ struct Primitives<'s> {
 /// the scene's own lights (an environment map's image and sampling
 /// tables) are made while the shapes are, and follow the area lights.
 fn create_primitives_and_lights<'s>(
-    plan: &super::instancing::InstancePlan<'s>,
+    placements: Vec<super::instancing::ShapePlacement>,
+    object_count: usize,
     context: &placed_shapes::Context<'s>,
     warnings: &mut Vec<Warning>,
-) -> Result<Primitives<'s>> {
+) -> Result<Primitives> {
     let scene = context.scene;
     let base = context.base;
     let mut shapes = ShapeStorage::default();
@@ -604,9 +621,9 @@ fn create_primitives_and_lights<'s>(
     let mut alpha_textures = Vec::new();
     // Kept current before and after each shape (an invisible one is
     // skipped).
-    let mut group_ends = vec![0; plan.object_count + 1];
+    let mut group_ends = vec![0; object_count + 1];
     let (runs, scene_lights) = rayon::join(
-        || placed_shapes::create(&plan.placements, context),
+        || placed_shapes::create(placements, context),
         || -> Result<Vec<Light>> {
             scene
                 .lights
@@ -615,15 +632,10 @@ fn create_primitives_and_lights<'s>(
                 .collect()
         },
     );
-    primitives.reserve(
-        runs.iter()
-            .flat_map(|r| &r.placed)
-            .map(|p| p.shapes.len())
-            .sum(),
-    );
+    primitives.reserve(runs.iter().map(|r| r.shapes.len()).sum());
     let (storages, runs): (Vec<ShapeStorage>, Vec<_>) = runs
         .into_iter()
-        .map(|run| (run.storage, (run.placed, run.warnings, run.error)))
+        .map(|run| (run.storage, (run.placed, run.shapes, run.warnings, run.error)))
         .unzip();
     let offsets = match shapes.append_all(storages) {
         Ok(offsets) => offsets,
@@ -633,21 +645,24 @@ fn create_primitives_and_lights<'s>(
                 crate::shapes::curve::MAX_SEGMENTS
             );
             return match runs[i].0.first() {
-                Some(placed) => scene_error(message, &placed.entity.entity.location.0),
+                Some(placed) => scene_error(message, &placed.location),
                 None => Err(crate::error::Error::Usage(message)),
             };
         }
     };
     let mut placed_ends = Vec::new();
-    for ((placed_shapes, run_warnings, run_error), offsets) in runs.into_iter().zip(offsets) {
+    for ((placed_shapes, run_shapes, run_warnings, run_error), offsets) in
+        runs.into_iter().zip(offsets)
+    {
         warnings.extend(run_warnings);
+        let mut run_shapes = run_shapes.into_iter();
         for placed in placed_shapes {
             group_ends[placed.group] = primitives.len();
             let alpha = placed.alpha.map(|texture| {
                 alpha_textures.push(texture);
                 alpha_textures.len() as u32 - 1
             });
-            for shape in placed.shapes {
+            for shape in run_shapes.by_ref().take(placed.shape_count) {
                 let shape = shape.relocated(&offsets);
                 let area_light = match placed.area_light {
                     Some(entity) => {
@@ -665,7 +680,7 @@ fn create_primitives_and_lights<'s>(
                 });
             }
             group_ends[placed.group] = primitives.len();
-            placed_ends.push((primitives.len(), &placed.entity.entity.location.0));
+            placed_ends.push((primitives.len(), placed.location));
         }
         if let Some(error) = run_error {
             return Err(error);
@@ -682,25 +697,14 @@ fn create_primitives_and_lights<'s>(
     })
 }
 
-/// What the accelerator phase makes.
-struct Aggregate {
-    bvh: Bvh,
-    instances: InstanceAccel,
-    /// In BVH order.
-    primitives: Vec<Primitive>,
-    curve_lookup: CurveLookup,
-}
-
-/// The accelerator phase (pbrt-v4's `CreateAggregate`): the BVHs (top
-/// level, each instanced object), the primitives and curve pieces put in
-/// their order, and the instances.
-fn create_aggregate(
-    primitives: Vec<Primitive>,
-    shapes: &mut ShapeStorage,
-    group_ends: &[usize],
-    placed_ends: &[(usize, &pbrt_parser::Location)],
-    plan: &super::instancing::InstancePlan<'_>,
-) -> Result<Aggregate> {
+/// Each primitive's bounds in render space, as the accelerator phase's
+/// boxes; an error at its `Shape` directive (`placed_ends`) if one is not
+/// finite.
+fn primitive_bounds(
+    primitives: &[Primitive],
+    shapes: &ShapeStorage,
+    placed_ends: &[(usize, pbrt_parser::Location)],
+) -> Result<Vec<BuildBox>> {
     let bounds: Vec<Bounds3> = primitives
         .par_iter()
         .map(|p| p.shape.bounds(shapes))
@@ -722,19 +726,49 @@ fn create_aggregate(
             None => Err(crate::error::Error::Usage(message)),
         };
     }
+    Ok(bounds.par_iter().map(build_box).collect())
+}
+
+/// What the accelerator phase makes.
+struct Aggregate {
+    bvh: Bvh,
+    instances: InstanceAccel,
+    /// In BVH order.
+    primitives: Vec<Primitive>,
+    curve_lookup: CurveLookup,
+}
+
+/// The accelerator phase (pbrt-v4's `CreateAggregate`): the BVHs (top
+/// level, each instanced object), the primitives and curve pieces put in
+/// their order, and the instances.
+fn create_aggregate(
+    unordered: Vec<Primitive>,
+    boxes: Vec<BuildBox>,
+    shapes: &mut ShapeStorage,
+    group_ends: &[usize],
+    instance_transforms: &[(u32, crate::math::Transform)],
+) -> Result<Aggregate> {
     let object_ranges: Vec<std::ops::Range<usize>> = (1..group_ends.len())
         .map(|g| group_ends[g - 1]..group_ends[g])
         .collect();
-    let (bvh, objects, order) = build_levels(&bounds, group_ends[0], &object_ranges);
+    let (bvh, objects, order) = build_levels(&boxes, group_ends[0], &object_ranges);
+    drop(boxes);
+    // The builder's working arrays go back before the reordered copies
+    // of the primitives and pieces are made.
+    crate::memory::return_freed_memory();
+    // The old order is freed (and handed back) before the pieces are put
+    // in the new one.
     let mut primitives: Vec<Primitive> = order
         .par_iter()
-        .map(|&i| primitives[i as usize].clone())
+        .map(|&i| unordered[i as usize].clone())
         .collect();
+    drop((unordered, order));
+    crate::memory::return_freed_memory();
     let curve_lookup = order_curve_pieces(&mut primitives, shapes);
-    let instances = if plan.instances.is_empty() {
+    let instances = if instance_transforms.is_empty() {
         InstanceAccel::empty()
     } else {
-        InstanceAccel::build(objects, &plan.instances)
+        InstanceAccel::build(objects, instance_transforms)
     };
     Ok(Aggregate {
         bvh,
@@ -975,7 +1009,7 @@ mod tests {
             .unwrap();
         }
         let loaded = crate::scene::load_text(Path::new("random.pbrt"), &text).unwrap();
-        build(&loaded.scene, &RenderOverrides::default()).unwrap()
+        build(loaded.scene, &RenderOverrides::default()).unwrap()
     }
 
     /// The closest hit found through the BVH, its curve lookup included,
@@ -1023,7 +1057,7 @@ mod tests {
             ObjectInstance \"ghost\"\nObjectInstance \"ghost\"\n\
             ObjectInstance \"ball\"\nTranslate 5 0 0\nObjectInstance \"ball\"\n";
         let loaded = crate::scene::load_text(Path::new("ghost.pbrt"), text).unwrap();
-        let scene = build(&loaded.scene, &RenderOverrides::default()).unwrap();
+        let scene = build(loaded.scene, &RenderOverrides::default()).unwrap();
         assert_eq!(scene.primitives.len(), 3);
         let ray = Ray::new(Vec3::new(5.0, 0.0, -10.0), Vec3::Z, 0.0);
         assert!(scene.intersect(&ray, f32::INFINITY).is_some());
@@ -1047,7 +1081,7 @@ mod tests {
             .unwrap();
         }
         let loaded = crate::scene::load_text(Path::new("bad.pbrt"), &text).unwrap();
-        let error = build(&loaded.scene, &RenderOverrides::default())
+        let error = build(loaded.scene, &RenderOverrides::default())
             .err()
             .map(|e| e.to_string())
             .unwrap_or_default();
@@ -1092,7 +1126,7 @@ mod tests {
             }
         }
         let loaded = crate::scene::load_text(Path::new("runs.pbrt"), &text).unwrap();
-        let scene = build(&loaded.scene, &RenderOverrides::default()).unwrap();
+        let scene = build(loaded.scene, &RenderOverrides::default()).unwrap();
         // Material 0 is the default, before the first `Material`.
         assert_eq!(scene.materials.len(), n + 1);
         assert_eq!(scene.primitives.len(), n / 2 * 8 + n / 2 * 2);

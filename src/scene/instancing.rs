@@ -23,20 +23,27 @@ use crate::math::Transform;
 use crate::scene_description::{SceneDescription, Shape};
 use pbrt_parser::Warning;
 
-/// A shape and where its primitives go.
-pub struct ShapePlacement<'a> {
-    pub shape: &'a Shape,
-    /// For a flattened instance: render-from-instance, applied after the
-    /// shape's render-from-object.
-    pub render_from_instance: Option<Transform>,
+/// A shape and where its primitives go. The placement owns the shape's
+/// description (taken from the scene description), so that it can be
+/// freed as soon as the shape is made.
+pub struct ShapePlacement {
+    pub shape: Shape,
+    /// For a flattened instance: the index in [`InstancePlan::flattened`]
+    /// of its render-from-instance, applied after the shape's
+    /// render-from-object. (An index, not the transform: a hair scene has
+    /// a placement per strand, and 256 bytes each made the plan 170 MB.)
+    pub flattened_instance: Option<u32>,
     /// 0: the top level; `k + 1`: instanced object `k`.
-    pub group: usize,
+    pub group: u32,
 }
 
 /// The shapes in group order (top level first, then each instanced object)
 /// and the instances.
-pub struct InstancePlan<'a> {
-    pub placements: Vec<ShapePlacement<'a>>,
+pub struct InstancePlan {
+    pub placements: Vec<ShapePlacement>,
+    /// Render-from-instance of each flattened instance (an object used
+    /// once), indexed by [`ShapePlacement::flattened_instance`].
+    pub flattened: Vec<Transform>,
     /// How many instanced objects (groups `1..=object_count`).
     pub object_count: usize,
     /// (instanced object, render-from-instance), one per `ObjectInstance`
@@ -44,12 +51,14 @@ pub struct InstancePlan<'a> {
     pub instances: Vec<(u32, Transform)>,
 }
 
-/// Plans the scene's shapes and instances.
-pub fn plan<'a>(
-    scene: &'a SceneDescription,
+/// Plans the scene's shapes and instances, taking every shape out of
+/// `scene` into the plan's placements (those of objects never
+/// instanced are dropped).
+pub fn plan(
+    scene: &mut SceneDescription,
     render_from_world: &Transform,
     warnings: &mut Vec<Warning>,
-) -> Result<InstancePlan<'a>> {
+) -> Result<InstancePlan> {
     let world_from_render = render_from_world.inverse();
     let mut uses = vec![0usize; scene.objects.len()];
     let mut warned = vec![false; scene.objects.len()];
@@ -76,29 +85,36 @@ pub fn plan<'a>(
         uses[instance.object] += 1;
     }
 
-    let mut placements: Vec<ShapePlacement> = scene
-        .shapes
-        .iter()
+    let mut object_shapes: Vec<Vec<Shape>> = scene
+        .objects
+        .iter_mut()
+        .map(|object| std::mem::take(&mut object.shapes))
+        .collect();
+    let mut placements: Vec<ShapePlacement> = std::mem::take(&mut scene.shapes)
+        .into_iter()
         .map(|shape| ShapePlacement {
             shape,
-            render_from_instance: None,
+            flattened_instance: None,
             group: 0,
         })
         .collect();
+    let mut flattened = Vec::new();
     let mut slot = vec![None; scene.objects.len()];
     let mut object_count = 0;
     let mut instances = Vec::new();
     for instance in &scene.instances {
-        let object = &scene.objects[instance.object];
         let render_from_instance = render_from_world
             .then(&scene.transform(instance.world_from_instance).start)
             .then(&world_from_render);
         match uses[instance.object] {
             0 => {}
             1 if !render_from_instance.swaps_handedness() => {
-                placements.extend(object.shapes.iter().map(|shape| ShapePlacement {
+                let index = flattened.len() as u32;
+                flattened.push(render_from_instance);
+                let shapes = std::mem::take(&mut object_shapes[instance.object]);
+                placements.extend(shapes.into_iter().map(|shape| ShapePlacement {
                     shape,
-                    render_from_instance: Some(render_from_instance),
+                    flattened_instance: Some(index),
                     group: 0,
                 }))
             }
@@ -120,18 +136,18 @@ pub fn plan<'a>(
     by_slot.sort_unstable();
     for (k, object) in by_slot {
         placements.extend(
-            scene.objects[object]
-                .shapes
-                .iter()
+            std::mem::take(&mut object_shapes[object])
+                .into_iter()
                 .map(|shape| ShapePlacement {
                     shape,
-                    render_from_instance: None,
-                    group: k + 1,
+                    flattened_instance: None,
+                    group: k as u32 + 1,
                 }),
         );
     }
     Ok(InstancePlan {
         placements,
+        flattened,
         object_count,
         instances,
     })

@@ -11,7 +11,7 @@ use super::instancing::ShapePlacement;
 use crate::error::{scene_error, Error, Result};
 use crate::materials::Material;
 use crate::math::Transform;
-use crate::scene_description::{Entity, MaterialRef, SceneDescription, Shape as ShapeEntity};
+use crate::scene_description::{Entity, MaterialRef, SceneDescription};
 use crate::shapes::curve::frame::{strand_angle, FibreFrame};
 use crate::shapes::{create_shapes, Shape, ShapeStorage};
 use crate::textures::{FloatTexture, NamedTextures};
@@ -20,16 +20,17 @@ use rayon::prelude::*;
 use std::collections::HashMap;
 use std::path::Path;
 
-/// One placement's shapes, indexing its run's storage.
+/// One placement, its shapes being the next `shape_count` of its run's.
 pub struct PlacedShapes<'s> {
     /// The placement's group (`ShapePlacement::group`).
     pub group: usize,
-    pub entity: &'s ShapeEntity,
+    /// Where its `Shape` directive is (its description is freed once made).
+    pub location: FileLoc,
     /// The alpha cutout texture, if any.
     pub alpha: Option<FloatTexture>,
     pub material: u32,
-    /// Empty for an invisible shape (alpha 0).
-    pub shapes: Vec<Shape>,
+    /// 0 for an invisible shape (alpha 0).
+    pub shape_count: usize,
     pub area_light: Option<&'s Entity>,
 }
 
@@ -38,6 +39,11 @@ pub struct PlacedShapes<'s> {
 pub struct Run<'s> {
     pub storage: ShapeStorage,
     pub placed: Vec<PlacedShapes<'s>>,
+    /// The placements' shapes, one after another, indexing `storage`.
+    /// (One array per run, not one per placement: a hair scene's 600,000
+    /// small arrays, allocated as the description was freed, kept most of
+    /// its pages from going back to the system.)
+    pub shapes: Vec<Shape>,
     pub warnings: Vec<Warning>,
     pub error: Option<Error>,
 }
@@ -50,57 +56,72 @@ pub struct Context<'a> {
     pub materials: &'a [Material],
     pub named_materials: &'a HashMap<&'a str, u32>,
     pub base: &'a Path,
+    /// The plan's flattened instances' transforms
+    /// (`ShapePlacement::flattened_instance`).
+    pub flattened: &'a [Transform],
 }
 
 /// Makes the shapes of `placements` in runs, in parallel; the runs come
 /// back in order.
-pub fn create<'s>(placements: &[ShapePlacement<'s>], context: &Context<'s>) -> Vec<Run<'s>> {
+///
+/// Each placement's shape description is dropped as soon as its shapes
+/// are made: for a hair scene it is most of the description's memory,
+/// which thus shrinks while the shapes grow instead of adding to them.
+pub fn create<'s>(placements: Vec<ShapePlacement>, context: &Context<'s>) -> Vec<Run<'s>> {
     // Several runs per thread balance runs whose shapes differ in cost.
     let run_length = placements
         .len()
         .div_ceil(16 * rayon::current_num_threads())
         .clamp(1, 4096);
     placements
-        .par_chunks(run_length)
+        .into_par_iter()
+        .chunks(run_length)
         .map(|run| {
             let mut out = Run {
                 storage: ShapeStorage::default(),
                 placed: Vec::with_capacity(run.len()),
+                shapes: Vec::new(),
                 warnings: Vec::new(),
                 error: None,
             };
             for placement in run {
                 match place(placement, context, &mut out.storage, &mut out.warnings) {
-                    Ok(placed) => out.placed.push(placed),
+                    Ok((placed, shapes)) => {
+                        out.placed.push(placed);
+                        out.shapes.extend(shapes);
+                    }
                     Err(e) => {
                         out.error = Some(e);
                         break;
                     }
                 }
             }
+            // The run freed its placements' descriptions (in the arena of
+            // the thread that parsed them, which this one does not reuse).
+            crate::memory::return_freed_memory();
             out
         })
         .collect()
 }
 
 fn place<'s>(
-    placement: &ShapePlacement<'s>,
+    placement: ShapePlacement,
     context: &Context<'s>,
     storage: &mut ShapeStorage,
     warnings: &mut Vec<Warning>,
-) -> Result<PlacedShapes<'s>> {
-    let shape = placement.shape;
+) -> Result<(PlacedShapes<'s>, Vec<Shape>)> {
+    let shape = &placement.shape;
     let mut placed = PlacedShapes {
-        group: placement.group,
-        entity: shape,
+        group: placement.group as usize,
+        location: shape.entity.location.0.clone(),
         alpha: None,
         material: 0,
-        shapes: Vec::new(),
+        shape_count: 0,
         area_light: None,
     };
     let loc = &shape.entity.location.0;
     placed.alpha = match Alpha::create(shape, context.textures, context.base)? {
-        Alpha::Invisible => return Ok(placed),
+        Alpha::Invisible => return Ok((placed, Vec::new())),
         Alpha::Opaque => None,
         Alpha::Cutout(texture) => Some(texture),
     };
@@ -112,8 +133,8 @@ fn place<'s>(
         return scene_error("participating media are not supported yet", loc);
     }
     let mut render_from_object = context.render_from_world.then(&transform.start);
-    if let Some(instance) = &placement.render_from_instance {
-        render_from_object = instance.then(&render_from_object);
+    if let Some(instance) = placement.flattened_instance {
+        render_from_object = context.flattened[instance as usize].then(&render_from_object);
     }
     placed.material = material_index(&shape.material, context.named_materials, loc)?;
     let material = &context.materials[placed.material as usize];
@@ -130,7 +151,7 @@ fn place<'s>(
             loc,
         );
     }
-    placed.shapes = create_shapes(
+    let shapes = create_shapes(
         shape,
         &render_from_object,
         shape.reverse_orientation,
@@ -143,7 +164,7 @@ fn place<'s>(
     // 1/(1 + d_diff) of h to the fibre).
     let widening = material.curve_width_scale();
     if widening != 1.0 {
-        storage.scale_curve_widths(&placed.shapes, widening);
+        storage.scale_curve_widths(&shapes, widening);
     }
     if let Some(axis) = material.axis_frame() {
         let toward = axis.reference.map(|v| {
@@ -160,7 +181,7 @@ fn place<'s>(
             (None, true) => FibreFrame::Turned(strand_angle(loc.offset, strand)),
             (None, false) => FibreFrame::Transported,
         };
-        storage.set_fibre_frames(&placed.shapes, frame_of);
+        storage.set_fibre_frames(&shapes, frame_of);
     }
     placed.area_light = match shape.area_light {
         Some(_) if matches!(material, Material::Interface) => {
@@ -182,7 +203,8 @@ fn place<'s>(
         .entity
         .params
         .report_unused(|| format!("shape \"{}\"", shape.entity.kind))?;
-    Ok(placed)
+    placed.shape_count = shapes.len();
+    Ok((placed, shapes))
 }
 
 /// The index of a shape's material in `BuiltScene::materials`.

@@ -934,7 +934,7 @@ mod tests {
                 "WorldBegin\nTranslate 0 0 5\nShape \"cyhair\" \"string filename\" \"three.hair\" \"float scale\" 2 \"string basis\" \"{basis}\" {extra}\n"
             );
             let loaded = load_text(&dir.join("scene.pbrt"), &text).unwrap();
-            build(&loaded.scene, &RenderOverrides::default()).map(|b| b.shapes)
+            build(loaded.scene, &RenderOverrides::default()).map(|b| b.shapes)
         };
         let storage = scene("polyline", "").unwrap();
         let segments = &storage.curve_segments;
@@ -1013,7 +1013,7 @@ mod tests {
             std::fs::write(dir.join(name), bytes).unwrap();
             let text = format!("WorldBegin\nShape \"cyhair\" \"string filename\" \"{name}\"\n");
             let loaded = load_text(&dir.join("scene.pbrt"), &text).unwrap();
-            let e = build(&loaded.scene, &RenderOverrides::default())
+            let e = build(loaded.scene, &RenderOverrides::default())
                 .err()
                 .unwrap_or_else(|| panic!("{name} was accepted"))
                 .to_string();
@@ -1118,7 +1118,7 @@ mod tests {
         // A missing file.
         let text = "WorldBegin\nShape \"cyhair\" \"string filename\" \"missing.hair\"\n";
         let loaded = load_text(&dir.join("scene.pbrt"), text).unwrap();
-        let e = build(&loaded.scene, &RenderOverrides::default())
+        let e = build(loaded.scene, &RenderOverrides::default())
             .err()
             .unwrap()
             .to_string();

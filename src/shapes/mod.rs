@@ -48,7 +48,7 @@ use crate::math::{offset_ray_origin, Bounds3, Ray, Transform};
 use crate::scene_description;
 use glam::{Vec2, Vec3};
 use pbrt_parser::{ParamType, Warning};
-use rayon::prelude::*;
+
 use std::path::Path;
 
 /// A shape of the scene. Per-ray code matches on it; no trait objects.
@@ -111,28 +111,25 @@ impl ShapeStorage {
             next.curve_pieces += other.curve_pieces.len() as u32;
             next_segment += other.curve_segments.len();
         }
-        let first_piece = self.curve_pieces.len();
-        let starts: Vec<usize> = offsets
-            .iter()
-            .map(|o| o.curve_pieces as usize - first_piece)
-            .collect();
-        let pieces: Vec<curve::CurvePiece> = (0..next.curve_pieces as usize - first_piece)
-            .into_par_iter()
-            .map(|k| {
-                // The storage holding new piece k (empty ones share a start).
-                let i = starts.partition_point(|&start| start <= k) - 1;
-                others[i].curve_pieces[k - starts[i]].with_segment_shifted(segment_offsets[i])
-            })
-            .collect();
-        if self.curve_pieces.is_empty() {
-            self.curve_pieces = pieces;
-        } else {
-            self.curve_pieces.extend(pieces);
-        }
-        for other in &mut others {
-            self.triangle_meshes.append(&mut other.triangle_meshes);
-            self.bilinear_meshes.append(&mut other.bilinear_meshes);
-            self.curve_segments.append(&mut other.curve_segments);
+        // One storage after another, each freed once moved (and the freed
+        // memory handed back every few): the appended pieces do not sit
+        // beside all the runs' copies of them.
+        self.curve_pieces
+            .reserve(next.curve_pieces as usize - self.curve_pieces.len());
+        for (k, (other, &shift)) in others.iter_mut().zip(&segment_offsets).enumerate() {
+            let other = std::mem::take(other);
+            self.curve_pieces.extend(
+                other
+                    .curve_pieces
+                    .iter()
+                    .map(|piece| piece.with_segment_shifted(shift)),
+            );
+            self.triangle_meshes.extend(other.triangle_meshes);
+            self.bilinear_meshes.extend(other.bilinear_meshes);
+            self.curve_segments.extend(other.curve_segments);
+            if k % 16 == 15 {
+                crate::memory::return_freed_memory();
+            }
         }
         Ok(offsets)
     }
