@@ -34,6 +34,8 @@ enum Command {
     Convergence(bench_handoff::HandOffArgs),
     /// Measure the shared reference scenes against pbrt-v4 into docs/performance.md (run by rpbrt-bench).
     Report(bench_handoff::HandOffArgs),
+    /// Parse and build time and peak memory on a generated curve file against pbrt-v4 (run by rpbrt-bench).
+    Curves(bench_handoff::HandOffArgs),
     /// The dual hair model's azimuthal scattering maps and diffraction spectra.
     Bcsdf(bcsdf::BcsdfArgs),
     /// Writes a CyHair (.hair) file as pbrt-v4 curves.
@@ -64,6 +66,7 @@ fn main() -> ExitCode {
         Some(Command::Imgtool(args)) => (imgtool::run(args), imgtool::ERROR_EXIT_CODE),
         Some(Command::Convergence(args)) => (bench_handoff::run("convergence", args), 1),
         Some(Command::Report(args)) => (bench_handoff::run("report", args), 1),
+        Some(Command::Curves(args)) => (bench_handoff::run("curves", args), 1),
         Some(Command::Bcsdf(args)) => (
             bcsdf::run(args)
                 .map(|()| ExitCode::SUCCESS)

@@ -1,7 +1,8 @@
 //! rpbrt's benchmark harness: error-against-time runs of a scene
 //! (`convergence`), and the performance report against pbrt-v4's figures
 //! (`report`, with the dual model's overhead in `dual_overhead`) that
-//! writes `docs/performance.md`.
+//! writes `docs/performance.md`, and parse/build time and peak memory on a
+//! generated curve file (`curves`).
 //!
 //! It sits above the renderer: it renders through the `rpbrt` library
 //! (in-process, for the timed convergence renders) and through the
@@ -11,6 +12,7 @@
 //! `rpbrt-bench` executable (`rpbrt::tools::bench_handoff`).
 
 pub mod convergence;
+pub mod curves;
 pub mod dual_overhead;
 pub mod error;
 pub mod executable;

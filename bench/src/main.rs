@@ -1,8 +1,8 @@
-//! The `rpbrt-bench` command line: `convergence` and `report`, also run as
-//! `rpbrt convergence` and `rpbrt report`. Argument dispatch only.
+//! The `rpbrt-bench` command line: `convergence`, `report` and `curves`, also run as
+//! `rpbrt convergence`, `rpbrt report` and `rpbrt curves`. Argument dispatch only.
 
 use clap::Parser as _;
-use rpbrt_bench::{convergence, report};
+use rpbrt_bench::{convergence, curves, report};
 use std::process::ExitCode;
 
 /// rpbrt's benchmark harness: error against time, and the performance
@@ -18,6 +18,8 @@ struct Cli {
 enum Command {
     Convergence(convergence::ConvergenceArgs),
     Report(report::ReportArgs),
+    /// Parse and build time and peak memory on a generated curve file (the refs README's 120 MB form).
+    Curves(curves::CurvesArgs),
 }
 
 fn main() -> ExitCode {
@@ -25,6 +27,7 @@ fn main() -> ExitCode {
     let outcome = match &cli.command {
         Command::Convergence(args) => convergence::run(args),
         Command::Report(args) => report::run(args),
+        Command::Curves(args) => curves::run(args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,

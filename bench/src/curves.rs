@@ -1,0 +1,336 @@
+//! `rpbrt-bench curves` (also `rpbrt curves`): parse and build time and
+//! peak memory on a generated curve file of the form
+//! `../shared/refs/README.md` measured pbrt-v4 on (606,208 random cylinder
+//! curves, 120 MB, one hair material, 16 × 16 pixels, 1 spp).
+//!
+//! Each measurement is a separate child process (`rpbrt FILE --stats`, and
+//! pbrt-v4 with `--pbrt`), so that its peak resident memory is its own:
+//! the operating system's figure for the child (`wait4`'s `ru_maxrss`),
+//! with its user and system CPU time; parse and build times come from
+//! `--stats`. Programs are run in interleaved rounds (every program once
+//! per round), so that a machine's slow minute falls on all of them, and
+//! the table gives medians over the rounds.
+//!
+//! | option | default | meaning |
+//! |---|---|---|
+//! | `--lines` | 606208 | curves in the generated file |
+//! | `--threads` | 1,2 | thread counts to measure (`--nthreads`) |
+//! | `--rounds` | 3 | interleaved rounds |
+//! | `--file` | a temporary file | where the scene is written (kept if given) |
+//! | `--baseline` | — | another `rpbrt` executable to measure beside this one (before/after) |
+//! | `--pbrt` | — | a pbrt-v4 executable to measure beside rpbrt |
+
+use crate::error::{io_error, Error, Result};
+use crate::executable::rpbrt_executable;
+use crate::provenance::{commit, machine, median, today};
+use std::fmt::Write;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+#[derive(clap::Args, Debug)]
+pub struct CurvesArgs {
+    /// Curves in the generated file (606208: the refs README's 120 MB).
+    #[arg(long, default_value_t = 606_208)]
+    pub lines: usize,
+    /// Thread counts to measure, comma separated.
+    #[arg(long, value_delimiter = ',', default_value = "1,2")]
+    pub threads: Vec<usize>,
+    /// Interleaved rounds (each program once per round); medians are given.
+    #[arg(long, default_value_t = 3)]
+    pub rounds: usize,
+    /// Where to write the generated scene (kept); else a temporary file,
+    /// removed afterwards.
+    #[arg(long)]
+    pub file: Option<PathBuf>,
+    /// Another rpbrt executable to measure beside this one (e.g. an older
+    /// build, for a before/after table).
+    #[arg(long)]
+    pub baseline: Option<PathBuf>,
+    /// A pbrt-v4 executable to measure beside rpbrt.
+    #[arg(long)]
+    pub pbrt: Option<PathBuf>,
+}
+
+/// What one child process took.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Measured {
+    pub wall_s: f64,
+    /// User + system CPU time.
+    pub cpu_s: f64,
+    pub peak_mb: f64,
+    /// From `rpbrt --stats` (None for pbrt-v4).
+    pub parse_s: Option<f64>,
+    pub build_s: Option<f64>,
+}
+
+/// A program the table has a row for.
+struct Program {
+    label: String,
+    executable: PathBuf,
+    is_pbrt: bool,
+}
+
+pub fn run(args: &CurvesArgs) -> Result<()> {
+    if args.rounds == 0 || args.threads.is_empty() || args.threads.contains(&0) {
+        return Err(Error::Usage(
+            "curves: --rounds and every --threads count must be at least 1".into(),
+        ));
+    }
+    let temporary = args.file.is_none();
+    let file = args.file.clone().unwrap_or_else(|| {
+        std::env::temp_dir().join(format!("rpbrt-curves-{}.pbrt", std::process::id()))
+    });
+    let text = rpbrt::tools::curvegen::curve_scene(args.lines, 1);
+    std::fs::write(&file, &text).map_err(io_error(&file))?;
+    let megabytes = text.len() as f64 / 1e6;
+    drop(text);
+
+    let mut programs = vec![Program {
+        label: "rpbrt".into(),
+        executable: rpbrt_executable()?,
+        is_pbrt: false,
+    }];
+    if let Some(baseline) = &args.baseline {
+        programs.push(Program {
+            label: format!("rpbrt (baseline {})", baseline.display()),
+            executable: baseline.clone(),
+            is_pbrt: false,
+        });
+    }
+    if let Some(pbrt) = &args.pbrt {
+        programs.push(Program {
+            label: "pbrt-v4".into(),
+            executable: pbrt.clone(),
+            is_pbrt: true,
+        });
+    }
+    let out_dir = std::env::temp_dir();
+    // results[threads][program] = one Measured per round.
+    let mut results = vec![vec![Vec::new(); programs.len()]; args.threads.len()];
+    for round in 0..args.rounds {
+        for (t, &threads) in args.threads.iter().enumerate() {
+            for (p, program) in programs.iter().enumerate() {
+                eprintln!(
+                    "round {}/{}: {} with {threads} thread(s)",
+                    round + 1,
+                    args.rounds,
+                    program.label
+                );
+                let image = out_dir.join(format!("rpbrt-curves-{}-{p}.exr", std::process::id()));
+                let measured = measure(program, &file, threads, &image)?;
+                let _ = std::fs::remove_file(&image);
+                results[t][p].push(measured);
+            }
+        }
+    }
+    if temporary {
+        let _ = std::fs::remove_file(&file);
+    }
+    print!("{}", table(args, megabytes, &programs, &results));
+    Ok(())
+}
+
+/// Runs `program` on `scene` with `threads` threads and measures it.
+fn measure(program: &Program, scene: &Path, threads: usize, image: &Path) -> Result<Measured> {
+    let mut command = std::process::Command::new(&program.executable);
+    command.arg("--nthreads").arg(threads.to_string());
+    if program.is_pbrt {
+        command
+            .arg("--quiet")
+            .arg("--outfile")
+            .arg(image)
+            .arg(scene);
+    } else {
+        command
+            .arg(scene)
+            .args(["--quiet", "--stats", "--outfile"])
+            .arg(image);
+    }
+    let (output, usage) = run_child(command, &program.executable)?;
+    if !output.status.success() {
+        return Err(Error::Usage(format!(
+            "{} failed on {}: {}",
+            program.executable.display(),
+            scene.display(),
+            String::from_utf8_lossy(&output.stderr).trim()
+        )));
+    }
+    let stdout = String::from_utf8_lossy(&output.stdout);
+    Ok(Measured {
+        wall_s: usage.wall_s,
+        cpu_s: usage.cpu_s,
+        peak_mb: usage.peak_mb,
+        parse_s: stats_seconds(&stdout, "parse: "),
+        build_s: stats_seconds(&stdout, "build: "),
+    })
+}
+
+/// Seconds on the `--stats` line starting with `prefix` (`parse: 1.23 s`).
+pub fn stats_seconds(stats: &str, prefix: &str) -> Option<f64> {
+    stats.lines().find_map(|l| {
+        l.strip_prefix(prefix)?
+            .strip_suffix(" s")?
+            .trim()
+            .parse()
+            .ok()
+    })
+}
+
+/// A finished child's resource use.
+struct Usage {
+    wall_s: f64,
+    cpu_s: f64,
+    peak_mb: f64,
+}
+
+/// Runs `command` to the end (its output captured) and returns what the
+/// operating system counted for it: `wait4` gives the child's own peak
+/// resident memory and CPU time.
+#[cfg(unix)]
+fn run_child(
+    mut command: std::process::Command,
+    executable: &Path,
+) -> Result<(std::process::Output, Usage)> {
+    use std::io::Read;
+    use std::os::unix::process::ExitStatusExt;
+    let start = Instant::now();
+    let mut child = command
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .map_err(io_error(executable))?;
+    let (mut stdout, mut stderr) = (Vec::new(), Vec::new());
+    // Read both pipes to their end before waiting (a full pipe would block
+    // the child); stderr on its own thread.
+    let mut err_pipe = child.stderr.take();
+    let err_reader = std::thread::spawn(move || {
+        let mut buffer = Vec::new();
+        if let Some(pipe) = err_pipe.as_mut() {
+            let _ = pipe.read_to_end(&mut buffer);
+        }
+        buffer
+    });
+    if let Some(pipe) = child.stdout.as_mut() {
+        let _ = pipe.read_to_end(&mut stdout);
+    }
+    stderr.extend(err_reader.join().unwrap_or_default());
+    let mut status: libc::c_int = 0;
+    // SAFETY: an all-zero rusage is a valid value for wait4 to fill.
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    // SAFETY: waits for our own child, which `child` never waits for.
+    let pid = unsafe { libc::wait4(child.id() as libc::pid_t, &mut status, 0, &mut usage) };
+    if pid < 0 {
+        return Err(io_error(executable)(std::io::Error::last_os_error()));
+    }
+    let wall_s = start.elapsed().as_secs_f64();
+    let seconds = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
+    Ok((
+        std::process::Output {
+            status: std::process::ExitStatus::from_raw(status),
+            stdout,
+            stderr,
+        },
+        Usage {
+            wall_s,
+            cpu_s: seconds(usage.ru_utime) + seconds(usage.ru_stime),
+            // ru_maxrss is in kilobytes on Linux.
+            peak_mb: usage.ru_maxrss as f64 / 1024.0,
+        },
+    ))
+}
+
+#[cfg(not(unix))]
+fn run_child(
+    _command: std::process::Command,
+    _executable: &Path,
+) -> Result<(std::process::Output, Usage)> {
+    Err(Error::Usage(
+        "curves: a child's peak memory is read with wait4, on unix only".into(),
+    ))
+}
+
+/// The Markdown table: one row per thread count and program, medians over
+/// the rounds, and each program's ratio to the first (rpbrt).
+fn table(
+    args: &CurvesArgs,
+    megabytes: f64,
+    programs: &[Program],
+    results: &[Vec<Vec<Measured>>],
+) -> String {
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "Measured {} on {} at commit {} (`rpbrt-bench curves`): {} curves, {megabytes:.1} MB, \
+         parse + build + 1 spp at 16 × 16, child processes, medians of {} interleaved rounds.\n",
+        today(),
+        machine(),
+        commit(),
+        args.lines,
+        args.rounds
+    );
+    out.push_str(
+        "| threads | program | wall s | CPU s (user + sys) | parse s | build s | peak memory | memory ÷ rpbrt's | wall ÷ rpbrt's |\n\
+         |---|---|---|---|---|---|---|---|---|\n",
+    );
+    let optional = |v: Option<f64>| v.map_or("—".to_string(), |s| format!("{s:.2}"));
+    for (t, &threads) in args.threads.iter().enumerate() {
+        let med = |p: usize, f: &dyn Fn(&Measured) -> Option<f64>| {
+            median(results[t][p].iter().filter_map(f).collect())
+        };
+        let base_wall = med(0, &|m| Some(m.wall_s));
+        let base_peak = med(0, &|m| Some(m.peak_mb));
+        for (p, program) in programs.iter().enumerate() {
+            let wall = med(p, &|m| Some(m.wall_s));
+            let peak = med(p, &|m| Some(m.peak_mb));
+            let ratio = |a: Option<f64>, b: Option<f64>| match (a, b) {
+                (Some(a), Some(b)) if b > 0.0 => format!("{:.2}×", a / b),
+                _ => "—".into(),
+            };
+            let _ = writeln!(
+                out,
+                "| {threads} | {} | {} | {} | {} | {} | {} | {} | {} |",
+                program.label,
+                optional(wall),
+                optional(med(p, &|m| Some(m.cpu_s))),
+                optional(med(p, &|m| m.parse_s)),
+                optional(med(p, &|m| m.build_s)),
+                peak.map_or("—".into(), |mb| format!("{mb:.0} MB")),
+                ratio(peak, base_peak),
+                ratio(wall, base_wall),
+            );
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reads_the_stats_lines() {
+        let stats = "wrote x.exr\nparse: 1.479 s\nbuild: 6.956 s\nrender: 0.168 s (0.073 s CPU)\n";
+        assert_eq!(stats_seconds(stats, "parse: "), Some(1.479));
+        assert_eq!(stats_seconds(stats, "build: "), Some(6.956));
+        assert_eq!(stats_seconds(stats, "bake: "), None);
+    }
+
+    /// The operating system's count is the child's own: a child that
+    /// touches 64 MB peaks above that, and one that does nothing far below.
+    #[cfg(target_os = "linux")]
+    #[test]
+    fn a_child_s_peak_memory_is_its_own() {
+        let run = |script: &str| {
+            let mut command = std::process::Command::new("sh");
+            command.arg("-c").arg(script);
+            run_child(command, Path::new("sh")).unwrap().1
+        };
+        // `head -c` of /dev/zero into a shell variable would need bash;
+        // dd with a 64 MB block holds the whole block in memory.
+        let big = run("dd if=/dev/zero of=/dev/null bs=64M count=1 2>/dev/null");
+        let small = run("true");
+        assert!(big.peak_mb > 64.0, "{}", big.peak_mb);
+        assert!(small.peak_mb < 32.0, "{}", small.peak_mb);
+        assert!(big.wall_s >= 0.0 && big.cpu_s >= 0.0);
+    }
+}
