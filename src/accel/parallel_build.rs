@@ -143,7 +143,11 @@ fn join_under_root(parts: Vec<CwBvh>) -> Option<CwBvh> {
         }
     }
     let node_count: usize = parts.iter().flatten().map(|p| p.nodes.len()).sum::<usize>() + 1;
-    let prim_count: usize = parts.iter().flatten().map(|p| p.primitive_indices.len()).sum();
+    let prim_count: usize = parts
+        .iter()
+        .flatten()
+        .map(|p| p.primitive_indices.len())
+        .sum();
     let mut nodes = Vec::with_capacity(node_count);
     let mut primitive_indices = Vec::with_capacity(prim_count);
     // Layout: the root, the parts' roots in slot order (a node's inner

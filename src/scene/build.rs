@@ -4,8 +4,8 @@
 
 use super::alpha;
 use super::placed_shapes;
-use crate::accel::instance::{build_levels, InstanceAccel};
 use crate::accel::bvh::{build_box, BuildBox};
+use crate::accel::instance::{build_levels, InstanceAccel};
 use crate::accel::Bvh;
 use crate::cameras::Camera;
 use crate::error::{scene_error, Result};
@@ -635,7 +635,12 @@ fn create_primitives_and_lights<'s>(
     primitives.reserve(runs.iter().map(|r| r.shapes.len()).sum());
     let (storages, runs): (Vec<ShapeStorage>, Vec<_>) = runs
         .into_iter()
-        .map(|run| (run.storage, (run.placed, run.shapes, run.warnings, run.error)))
+        .map(|run| {
+            (
+                run.storage,
+                (run.placed, run.shapes, run.warnings, run.error),
+            )
+        })
         .unzip();
     let offsets = match shapes.append_all(storages) {
         Ok(offsets) => offsets,
