@@ -511,14 +511,14 @@ mod tests {
     use super::*;
     use crate::math::sampling::{sample_uniform_sphere, UNIFORM_SPHERE_PDF};
 
-    /// A small deterministic generator for the tests.
-    struct Rng(u64);
+    /// The crate's PCG32, with the draws these tests need.
+    struct Rng(crate::math::pcg32::Pcg32);
     impl Rng {
+        fn new(seed: u64) -> Self {
+            Rng(crate::math::pcg32::Pcg32::new(seed))
+        }
         fn f(&mut self) -> f32 {
-            self.0 ^= self.0 << 13;
-            self.0 ^= self.0 >> 7;
-            self.0 ^= self.0 << 17;
-            (self.0 >> 40) as f32 / (1u64 << 24) as f32
+            self.0.uniform_f32()
         }
         fn v2(&mut self) -> Vec2 {
             Vec2::new(self.f(), self.f())
@@ -534,7 +534,7 @@ mod tests {
     /// roughnesses.
     #[test]
     fn white_furnace_uniform() {
-        let mut rng = Rng(0x1234_5678);
+        let mut rng = Rng::new(0x1234_5678);
         let mut worst: f32 = 0.0;
         for bm in [0.1f32, 0.3, 0.5, 0.7, 0.9, 1.0] {
             for bn in [0.1f32, 0.3, 0.5, 0.7, 0.9, 1.0] {
@@ -558,7 +558,7 @@ mod tests {
     /// The same with the BSDF's own sampling: within 1 %.
     #[test]
     fn white_furnace_sampled() {
-        let mut rng = Rng(0xdead_beef);
+        let mut rng = Rng::new(0xdead_beef);
         for bm in [0.1f32, 0.4, 0.7, 1.0] {
             for bn in [0.1f32, 0.4, 0.7, 1.0] {
                 let wo = sample_uniform_sphere(rng.v2());
@@ -581,7 +581,7 @@ mod tests {
     /// f |cos θi| / pdf is 1 (pbrt-v4's test), to within (0.99, 1.01).
     #[test]
     fn sampling_weights_are_one_when_lossless() {
-        let mut rng = Rng(42);
+        let mut rng = Rng::new(42);
         for bm in [0.1f32, 0.4, 0.7, 1.0] {
             for bn in [0.1f32, 0.4, 0.7, 1.0] {
                 for _ in 0..2000 {
@@ -601,7 +601,7 @@ mod tests {
     /// matches the density sample_f reports.
     #[test]
     fn sampling_consistency_and_pdf() {
-        let mut rng = Rng(7);
+        let mut rng = Rng::new(7);
         let sigma_a = SampledSpectrum([0.25, 0.5, 1.0, 2.0]);
         for bm in [0.2f32, 0.5, 0.9] {
             for bn in [0.2f32, 0.5, 0.9] {
@@ -613,11 +613,16 @@ mod tests {
                     let bxdf = HairBxDF::new(h, 1.55, sigma_a, bm, bn, 2.0);
                     if let Some(s) = bxdf.sample(wo, rng.f(), rng.v2()) {
                         importance += (s.f.average() * s.wi.z.abs() / s.pdf) as f64;
+                        // A sample rounded onto the fibre's axis (sin θ =
+                        // ±1 in f32) has no azimuth: pdf() takes φ = 0 and
+                        // the sample the φ it drew (pbrt-v4 alike).
+                        let on_axis = s.wi.y == 0.0 && s.wi.z == 0.0;
                         let p = bxdf.density(wo, s.wi);
                         assert!(
-                            (p - s.pdf).abs() <= 1e-3 * s.pdf.max(1.0),
-                            "pdf {p} vs {}",
-                            s.pdf
+                            on_axis || (p - s.pdf).abs() <= 1e-3 * s.pdf.max(1.0),
+                            "pdf {p} vs {} at wi {}",
+                            s.pdf,
+                            s.wi
                         );
                     }
                     let wi = sample_uniform_sphere(rng.v2());
@@ -634,7 +639,7 @@ mod tests {
     /// grid of the sphere.
     #[test]
     fn chi_square_sampling_matches_pdf() {
-        let mut rng = Rng(99);
+        let mut rng = Rng::new(99);
         let (n_theta, n_phi) = (16usize, 32usize);
         for (bm, bn, h) in [(0.3f32, 0.3f32, 0.2f32), (0.6, 0.8, -0.7), (0.15, 0.4, 0.9)] {
             let bxdf = HairBxDF::new(h, 1.55, SampledSpectrum([0.3, 0.5, 0.8, 1.2]), bm, bn, 2.0);
@@ -744,7 +749,7 @@ mod tests {
         use super::super::{BxDF, BxDFReflTransFlags, TransportMode};
         let (mode, all) = (TransportMode::Radiance, BxDFReflTransFlags::All);
         let bits = |s: SampledSpectrum| s.0.map(f32::to_bits);
-        let mut rng = Rng(0x5eed);
+        let mut rng = Rng::new(0x5eed);
         let mut stored_samples = 0;
         for (bm, bn, sigma_a, alpha) in [
             (0.3, 0.3, SampledSpectrum([0.4, 0.6, 0.9, 1.3]), 2.0),
