@@ -183,8 +183,12 @@ fn imagemap_and_alpha_errors_name_their_directive() {
             "scene.pbrt:6:1: 2D texture mapping \"cubic\" unknown",
         ),
         (
-            "AttributeBegin\nAreaLightSource \"diffuse\"\n  Shape \"sphere\" \"float alpha\" 0.5\nAttributeEnd\n",
-            "scene.pbrt:8:3: \"alpha\" on an area light's shape",
+            "AttributeBegin\nAreaLightSource \"diffuse\" \"string filename\" \"halves.pfm\" \"rgb L\" [1 1 1]\n  Shape \"sphere\"\nAttributeEnd\n",
+            "scene.pbrt:7:58: area light: both \"L\" and \"filename\" are given",
+        ),
+        (
+            "AttributeBegin\nAreaLightSource \"diffuse\" \"string filename\" \"absent.pfm\"\n  Shape \"sphere\"\nAttributeEnd\n",
+            "scene.pbrt:7:27: area light: cannot read \"",
         ),
     ];
     for (world, expected) in cases {
@@ -192,4 +196,87 @@ fn imagemap_and_alpha_errors_name_their_directive() {
         assert!(e.contains(expected), "expected {expected:?} in:\n{e}");
     }
     std::fs::remove_dir_all(&dir).ok();
+}
+
+/// Form factor from a point to a parallel rectangle a × b at height h
+/// with one corner straight above the point.
+fn corner_form_factor(a: f64, b: f64, h: f64) -> f64 {
+    let (x, y) = (a / h, b / h);
+    let (sx, sy) = ((1.0 + x * x).sqrt(), (1.0 + y * y).sqrt());
+    (x / sx * (y / sx).atan() + y / sy * (x / sy).atan()) / (2.0 * std::f64::consts::PI)
+}
+
+/// An emitter of constant alpha 0 is never hit but still lights the scene
+/// (pbrt-v4's invisible area light, reached by light sampling alone): a
+/// Lambertian floor under a two-sided emitting square (half-side 4,
+/// height 6, L = 1) above the camera reflects ρ · L · F, F the form
+/// factor, whether the emitter is visible or not.
+#[test]
+fn invisible_emitter_lights_the_floor_as_a_visible_one() {
+    let view = "LookAt 0 0 5  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 4\n\
+         Film \"rgb\" \"integer xresolution\" 16 \"integer yresolution\" 16 \"bool savefp16\" false\n\
+         Integrator \"path\" \"integer maxdepth\" 1\n";
+    let (s, h) = (4.0, 6.0);
+    let expected = 0.5 * 4.0 * corner_form_factor(s, s, h);
+    for alpha in ["", "\"float alpha\" 0"] {
+        let dir = scratch(&format!("invisible{}", alpha.len()), 1.0, 1.0);
+        let scene = format!(
+            "{view}WorldBegin\nMaterial \"diffuse\" \"rgb reflectance\" [0.5 0.5 0.5]\n{}\
+             AttributeBegin\nAreaLightSource \"diffuse\" \"rgb L\" [1 1 1] \"bool twosided\" true\n\
+             Material \"diffuse\" \"rgb reflectance\" [0 0 0]\n{}AttributeEnd\n",
+            quad(0.0, 10.0, ""),
+            quad(h as f32, s as f32, alpha)
+        );
+        let image = render(&dir, &scene, 16);
+        let (left, right) = half_means(&image);
+        let mean = f64::from(left + right) / 2.0;
+        eprintln!("emitter {alpha:?}: floor {mean:.4}, expected {expected:.4}");
+        assert!(
+            (mean - expected).abs() < 0.02 * expected,
+            "{alpha:?}: {mean} vs {expected}"
+        );
+    }
+}
+
+/// Alpha ½ on an emitter seen straight on: half of the camera rays hit it
+/// (a hash of the ray) and half of the points hit emit (a hash of the
+/// point), as pbrt-v4 tests both: a quarter of L on average.
+#[test]
+fn alpha_masks_an_emitters_radiance() {
+    let dir = scratch("masked", 1.0, 1.0);
+    let scene = format!(
+        "{VIEW}WorldBegin\nAreaLightSource \"diffuse\" \"rgb L\" [1 1 1]\n\
+         Material \"diffuse\" \"rgb reflectance\" [0 0 0]\n{}",
+        quad(0.0, 1.0, "\"float alpha\" 0.5")
+    );
+    let image = render(&dir, &scene, 16);
+    let (left, right) = half_means(&image);
+    let mean = (left + right) / 2.0;
+    eprintln!("emitter of alpha 0.5: mean {mean:.4}");
+    assert!((mean - 0.25).abs() < 0.03, "{mean}");
+}
+
+/// An emitter with an image: the radiance at (u, v) is the image's
+/// bilinear RGB at (u, 1 − v), times `scale`. Texels 1 (u < ½) and 0
+/// (u > ½), centres at u = ¼ and ¾, so the radiance is 1 up to u = ¼,
+/// falls linearly to 0 at u = ¾ and stays 0; the view (half-width
+/// 5 tan 10°) sees u from c = ½ − 5 tan 10° / 2 to 1 − c.
+#[test]
+fn image_emitter_renders_its_texels() {
+    let dir = scratch("emitimage", 1.0, 0.0);
+    let scene = format!(
+        "{VIEW}WorldBegin\nAreaLightSource \"diffuse\" \"string filename\" \"halves.pfm\" \"float scale\" 2\n\
+         Material \"diffuse\" \"rgb reflectance\" [0 0 0]\n{}",
+        quad(0.0, 1.0, "")
+    );
+    let image = render(&dir, &scene, 16);
+    let (left, right) = half_means(&image);
+    let c = 0.5 - 5.0 * 10f32.to_radians().tan() / 2.0;
+    let width = 0.5 - c;
+    // ∫ over [c, ½]: (¼ − c) · 1 + ¼ · ¾; over [½, 1 − c]: ¼ · ¼.
+    let bright = 2.0 * ((0.25 - c) + 0.25 * 0.75) / width;
+    let dim = 2.0 * (0.25 * 0.25) / width;
+    eprintln!("image emitter: u > ½ {left:.4} ({dim:.4}), u < ½ {right:.4} ({bright:.4})");
+    assert!((right - bright).abs() < 0.01, "{right} vs {bright}");
+    assert!((left - dim).abs() < 0.01, "{left} vs {dim}");
 }

@@ -14,7 +14,7 @@ use super::ray_counts::RayCounts;
 use crate::bxdfs::{BxDFReflTransFlags, TransportMode, BSDF};
 use crate::cameras::CameraRay;
 use crate::interaction::SurfaceInteraction;
-use crate::lights::{Light, LightKind, LightSampleContext};
+use crate::lights::{Light, LightSampleContext};
 use crate::math::sampling::{balance_heuristic, power_heuristic};
 use crate::samplers::Sampler;
 use crate::scene::build::BuiltScene;
@@ -115,7 +115,7 @@ pub fn path_li(
         // Emission of an area light that was hit.
         if let Some(light_index) = prim.area_light {
             if let Light::DiffuseArea(area) = &scene.lights[light_index as usize] {
-                let le = area.l(si.n, si.wo, lambda);
+                let le = area.l(si.p, si.n, si.uv, si.wo, lambda);
                 if le.is_nonzero() && skip_emission {
                     let origin = connected_from.as_ref();
                     if origin
@@ -327,10 +327,7 @@ fn sample_ld(
         return SampledSpectrum::ZERO;
     }
     let p_l = p_light * ls.pdf;
-    if matches!(
-        light.kind(),
-        LightKind::DeltaPosition | LightKind::DeltaDirection
-    ) {
+    if light.sampled_only() {
         return l * f / p_l;
     }
     let p_b = p_b.unwrap_or_else(|| {

@@ -362,6 +362,9 @@ mod tests {
                 scale: 1.0,
                 two_sided: i % 3 == 0,
                 area,
+                image: None,
+                alpha: None,
+                invisible: false,
             }));
         }
         for _ in 0..5 {

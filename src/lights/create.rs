@@ -1,5 +1,6 @@
 //! Lights from the scene description.
 
+use super::diffuse_area::EmissionImage;
 use super::{
     DiffuseAreaLight, DistantLight, GoniometricLight, Light, PointLight, ProjectionLight,
     SpotLight, UniformInfiniteLight,
@@ -11,9 +12,11 @@ use crate::shapes::{Shape, ShapeStorage};
 use crate::spectrum::color_space::SpectrumKind;
 use crate::spectrum::parameter::spectrum_param;
 use crate::spectrum::{spectrum_to_photometric as photometric, Spectrum};
+use crate::textures::FloatTexture;
 use glam::{DMat4, DVec3, DVec4, Mat3, Vec3};
 use std::f32::consts::PI;
 use std::path::Path;
+use std::sync::Arc;
 
 /// The emission spectrum `name` (default: the colour space's illuminant)
 /// and pbrt-v4's photometric normalisation: `scale` is divided by the
@@ -214,13 +217,35 @@ pub fn create_light(
     Ok(created)
 }
 
-/// The `AreaLightSource "diffuse"` of one shape.
+/// The `AreaLightSource "diffuse"` of one Shape directive, read once and
+/// made into a light per shape by [`AreaLightTemplate::light`].
+pub struct AreaLightTemplate {
+    radiance: Spectrum,
+    image: Option<Arc<EmissionImage>>,
+    /// `scale` over the photometric normalisation.
+    scale: f32,
+    two_sided: bool,
+    /// `power` (≤ 0: not given).
+    power: f32,
+    alpha: Option<Arc<FloatTexture>>,
+    invisible: bool,
+}
+
+/// The shape's alpha as an area light sees it.
+pub enum AreaLightAlpha<'a> {
+    Opaque,
+    /// Masks the emission.
+    Cutout(&'a FloatTexture),
+    /// Constant 0: the shape is never hit, and emits unmasked (pbrt-v4).
+    Invisible,
+}
+
+/// Reads an `AreaLightSource` for a shape whose alpha is `alpha`.
 pub fn create_area_light(
     entity: &Entity,
-    shape: &Shape,
-    shapes: &ShapeStorage,
+    alpha: AreaLightAlpha,
     base: &Path,
-) -> Result<DiffuseAreaLight> {
+) -> Result<AreaLightTemplate> {
     let p = &entity.params;
     let loc = &entity.location.0;
     if entity.kind != "diffuse" {
@@ -229,31 +254,90 @@ pub fn create_area_light(
             loc,
         );
     }
-    if p.find("filename", &[pbrt_parser::ParamType::String])?
+    let image = if p
+        .find("filename", &[pbrt_parser::ParamType::String])?
         .is_some()
     {
-        return scene_error(
-            "area lights with an image (\"filename\") are not supported yet",
-            loc,
-        );
-    }
-    let (radiance, mut scale) = emission(entity, "L", base)?;
+        if let Some(l) = p.iter().find(|q| q.name == "L") {
+            return scene_error(
+                "area light: both \"L\" and \"filename\" are given",
+                &l.location,
+            );
+        }
+        Some(Arc::new(emission_image(entity, base)?))
+    } else {
+        None
+    };
+    let (radiance, scale) = emission(entity, "L", base)?;
     let two_sided = p.bool("twosided", false)?;
-    let area = shape.area(shapes);
     let power = p.float("power", -1.0)? as f32;
-    if power > 0.0 {
-        // pbrt-v4: k_e = π (×2 if two-sided) × area, per shape.
-        let k_e = PI * if two_sided { 2.0 } else { 1.0 } * area;
-        scale *= power / k_e;
-    }
     p.report_unused(|| "area light \"diffuse\"".into())?;
-    Ok(DiffuseAreaLight {
-        shape: shape.clone(),
+    let (alpha, invisible) = match alpha {
+        AreaLightAlpha::Opaque => (None, false),
+        AreaLightAlpha::Cutout(texture) => (Some(Arc::new(texture.clone())), false),
+        AreaLightAlpha::Invisible => (None, true),
+    };
+    Ok(AreaLightTemplate {
         radiance,
+        image,
         scale,
         two_sided,
-        area,
+        power,
+        alpha,
+        invisible,
     })
+}
+
+impl AreaLightTemplate {
+    /// The light of one of the directive's shapes.
+    pub fn light(&self, shape: &Shape, shapes: &ShapeStorage) -> DiffuseAreaLight {
+        let area = shape.area(shapes);
+        let mut scale = self.scale;
+        if self.power > 0.0 {
+            // pbrt-v4, per shape: k_e = π (×2 if two-sided) × area × the
+            // image's mean luminance (1 without an image).
+            let luminance = self.image.as_ref().map_or(1.0, |image| {
+                let weights = image.color_space.luminance_vector();
+                let data = image.image.data();
+                data.chunks_exact(3)
+                    .map(|c| Vec3::new(c[0], c[1], c[2]).dot(weights))
+                    .sum::<f32>()
+                    / (data.len() / 3).max(1) as f32
+            });
+            let k_e = PI * if self.two_sided { 2.0 } else { 1.0 } * area * luminance;
+            scale *= self.power / k_e;
+        }
+        DiffuseAreaLight {
+            shape: shape.clone(),
+            radiance: self.radiance.clone(),
+            image: self.image.clone(),
+            scale,
+            two_sided: self.two_sided,
+            area,
+            alpha: self.alpha.clone(),
+            invisible: self.invisible,
+        }
+    }
+}
+
+/// An area light's `filename`: its R, G, B, linear.
+fn emission_image(entity: &Entity, base: &Path) -> Result<EmissionImage> {
+    let LightImage {
+        image,
+        filename,
+        filename_at,
+    } = light_image(entity, "area light", base)?;
+    let Some(image) = image.to_linear().select_channels(&["R", "G", "B"]) else {
+        return scene_error(
+            format!("area light: \"{filename}\" has no R, G and B channels"),
+            &filename_at,
+        );
+    };
+    // Images carry no colour space here: linear sRGB (pbrt-v4's default
+    // when the file names none).
+    let color_space =
+        crate::spectrum::color_space::get(crate::scene_description::ColorSpaceName::Srgb);
+    Ok(EmissionImage { image, color_space })
 }
 
 /// pbrt-v4's swap of a goniometric light's y and z axes.

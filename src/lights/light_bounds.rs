@@ -283,15 +283,16 @@ pub fn light_bounds(light: &Light, shapes: &ShapeStorage) -> Option<LightBounds>
             cos_theta_e: l.cos_total_width(),
             two_sided: false,
         }),
-        // DiffuseAreaLight::Bounds: φ = π · area · scale · max L (not
-        // doubled when two-sided: the importance accounts for both sides),
-        // the shape's normal cone, emission over the hemisphere.
+        // DiffuseAreaLight::Bounds: φ = π · area · scale · max L (or the
+        // image's mean channel value; not doubled when two-sided: the
+        // importance accounts for both sides), the shape's normal cone,
+        // emission over the hemisphere.
         Light::DiffuseArea(l) => {
             let normals = normal_bounds(&l.shape, shapes);
             Some(LightBounds {
                 bounds: l.shape.bounds(shapes),
                 w: normals.w,
-                phi: l.radiance.max_value() * l.scale * l.area * PI,
+                phi: l.bounds_radiance() * l.scale * l.area * PI,
                 cos_theta_o: normals.cos_theta,
                 cos_theta_e: cos_half_pi(),
                 two_sided: l.two_sided,

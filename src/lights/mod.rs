@@ -14,7 +14,7 @@ pub mod sampler;
 pub mod spot;
 pub mod uniform_infinite;
 
-pub use create::{create_area_light, create_light};
+pub use create::{create_area_light, create_light, AreaLightAlpha, AreaLightTemplate};
 pub use diffuse_area::DiffuseAreaLight;
 pub use distant::DistantLight;
 pub use goniometric::GoniometricLight;
@@ -146,6 +146,20 @@ impl Light {
             Light::Distant(_) => LightKind::DeltaDirection,
             Light::UniformInfinite(_) | Light::ImageInfinite(_) => LightKind::Infinite,
             Light::DiffuseArea(_) => LightKind::Area,
+        }
+    }
+
+    /// Whether no ray can reach the light, so that light sampling alone
+    /// finds it and its samples are not weighted against the BSDF's: delta
+    /// lights, and invisible (alpha 0) area lights, which pbrt-v4 types as
+    /// `DeltaPosition` for that reason.
+    pub fn sampled_only(&self) -> bool {
+        match self {
+            Light::DiffuseArea(l) => l.invisible,
+            _ => matches!(
+                self.kind(),
+                LightKind::DeltaPosition | LightKind::DeltaDirection
+            ),
         }
     }
 

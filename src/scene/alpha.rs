@@ -7,9 +7,11 @@
 //! fractional alpha lets that fraction of rays through, the same rays on
 //! every run; the ray then continues from the hit. Shadow rays test alpha
 //! the same way. A constant alpha ≤ 0 removes the shape at build time (it
-//! could never be hit); a constant alpha ≥ 1 is no cutout.
+//! could never be hit); a constant alpha ≥ 1 is no cutout. On an area
+//! light's shape alpha also masks the emission (`lights::diffuse_area`),
+//! and a shape of constant alpha 0 still emits, unseen.
 
-use crate::error::{scene_error, Result};
+use crate::error::Result;
 use crate::interaction::SurfaceInteraction;
 use crate::math::hash::hash_words;
 use crate::math::Ray;
@@ -42,12 +44,6 @@ impl Alpha {
                 _ => Alpha::Cutout(t),
             },
         };
-        if shape.area_light.is_some() && !matches!(alpha, Alpha::Opaque) {
-            return scene_error(
-                "\"alpha\" on an area light's shape (emission masked by alpha) is not supported yet",
-                &shape.entity.location.0,
-            );
-        }
         Ok(alpha)
     }
 }

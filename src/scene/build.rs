@@ -667,16 +667,31 @@ fn create_primitives_and_lights<'s>(
                 alpha_textures.push(texture);
                 alpha_textures.len() as u32 - 1
             });
+            let area_light = match placed.area_light {
+                Some(entity) => {
+                    let mask = match (alpha, placed.invisible) {
+                        (_, true) => lights::AreaLightAlpha::Invisible,
+                        (Some(a), false) => {
+                            lights::AreaLightAlpha::Cutout(&alpha_textures[a as usize])
+                        }
+                        (None, false) => lights::AreaLightAlpha::Opaque,
+                    };
+                    Some(lights::create_area_light(entity, mask, base)?)
+                }
+                None => None,
+            };
             for shape in run_shapes.by_ref().take(placed.shape_count) {
                 let shape = shape.relocated(&offsets);
-                let area_light = match placed.area_light {
-                    Some(entity) => {
-                        let light = lights::create_area_light(entity, &shape, &shapes, base)?;
-                        lights.push(Light::DiffuseArea(light));
+                let area_light = match &area_light {
+                    Some(template) => {
+                        lights.push(Light::DiffuseArea(template.light(&shape, &shapes)));
                         Some(lights.len() as u32 - 1)
                     }
                     None => None,
                 };
+                if placed.invisible {
+                    continue;
+                }
                 primitives.push(Primitive {
                     shape,
                     material: placed.material,

@@ -29,8 +29,11 @@ pub struct PlacedShapes<'s> {
     /// The alpha cutout texture, if any.
     pub alpha: Option<FloatTexture>,
     pub material: u32,
-    /// 0 for an invisible shape (alpha 0).
+    /// 0 for an invisible shape (alpha 0) unless it emits.
     pub shape_count: usize,
+    /// Constant alpha 0: never hit; its shapes (made only for an area
+    /// light) emit unseen.
+    pub invisible: bool,
     pub area_light: Option<&'s Entity>,
 }
 
@@ -127,10 +130,17 @@ fn place<'s>(
         material: 0,
         shape_count: 0,
         area_light: None,
+        invisible: false,
     };
     let loc = &shape.entity.location.0;
     placed.alpha = match Alpha::create(shape, context.textures, context.base)? {
-        Alpha::Invisible => return Ok((placed, Vec::new())),
+        // pbrt-v4 keeps an invisible shape's area light: a light reached
+        // by light sampling alone.
+        Alpha::Invisible if shape.area_light.is_none() => return Ok((placed, Vec::new())),
+        Alpha::Invisible => {
+            placed.invisible = true;
+            None
+        }
         Alpha::Opaque => None,
         Alpha::Cutout(texture) => Some(texture),
     };
