@@ -250,7 +250,7 @@ fn slots(category: Category, kind: &str) -> Option<[&'static [Slot]; 3]> {
             ("basis", S),
             ("splitdepth", I),
         ],
-        (Shape, "loopsubdiv") => &[("levels", I), ("indices", I), ("P", P3)],
+        (Shape, "loopsubdiv") => &[("levels", I), ("indices", I), ("P", P3), ("scheme", S)],
         (Material, "interface" | "") => none,
         (Material, "diffuse") => &[("reflectance", ST)],
         (Material, "coateddiffuse") => &[

@@ -22,6 +22,7 @@ pub mod cyhair;
 pub mod cylinder;
 pub mod disk;
 pub mod interval;
+pub mod loop_subdiv;
 pub mod mesh;
 pub mod numeric;
 pub mod object_transform;
@@ -591,7 +592,13 @@ pub fn create_shapes(
                 .collect()
         }
         "loopsubdiv" => {
-            return scene_error(format!("shape \"{kind}\" is not supported yet"), location)
+            let mesh = loop_subdiv::from_parameters(
+                params,
+                location,
+                render_from_object,
+                reverse_orientation,
+            )?;
+            push_triangle_mesh(storage, mesh)
         }
         _ => return scene_error(format!("\"{kind}\": unknown shape type"), location),
     };
@@ -825,11 +832,15 @@ element face 2\nproperty list uchar int vertex_indices\nend_header\n\
         let dir = temporary_directory("errors");
         let error = |world: &str| create_all(&dir, world).0.unwrap_err().to_string();
         let e =
-            error(r#"Shape "loopsubdiv" "integer indices" [0 1 2] "point3 P" [0 0 0 1 0 0 0 1 0]"#);
+            error(r#"Shape "loopsubdiv" "integer indices" [0 1 3] "point3 P" [0 0 0 1 0 0 0 1 0]"#);
         assert!(
-            e.contains("shape \"loopsubdiv\" is not supported yet"),
+            e.contains("loopsubdiv: \"indices\" values out of range: 3"),
             "{e}"
         );
+        let e = error(
+            r#"Shape "loopsubdiv" "integer indices" [0 1 2 0 1 2] "point3 P" [0 0 0 1 0 0 0 1 0]"#,
+        );
+        assert!(e.contains("in two triangles the same way round"), "{e}");
         let e = error(r#"Shape "plymesh" "string filename" "mesh.ply" "float displacement" 0.1"#);
         assert!(
             e.contains("plymesh displacement is not supported yet"),
