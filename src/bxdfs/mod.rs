@@ -40,7 +40,7 @@ pub use diffuse::DiffuseBxDF;
 pub use diffuse_transmission::DiffuseTransmissionBxDF;
 pub use flags::{BxDFFlags, BxDFReflTransFlags};
 pub use henyey_greenstein::{henyey_greenstein, HenyeyGreenstein, PhaseFunctionSample};
-pub use layered::{CoatedDiffuseBxDF, LayeredBxDF};
+pub use layered::{CoatedConductorBxDF, CoatedDiffuseBxDF, LayeredBxDF};
 pub use microfacet::TrowbridgeReitzDistribution;
 pub use thin_dielectric::ThinDielectricBxDF;
 pub use transport_mode::TransportMode;
@@ -56,6 +56,7 @@ pub enum BxDF {
     Dielectric(DielectricBxDF),
     ThinDielectric(ThinDielectricBxDF),
     CoatedDiffuse(CoatedDiffuseBxDF),
+    CoatedConductor(CoatedConductorBxDF),
     DiffuseTransmission(DiffuseTransmissionBxDF),
     Hair(hair::CircularHairBxDF),
     DualHair(dual_hair::DualHairBxDF),
@@ -70,6 +71,7 @@ macro_rules! dispatch {
             BxDF::Dielectric($bxdf) => $call,
             BxDF::ThinDielectric($bxdf) => $call,
             BxDF::CoatedDiffuse($bxdf) => $call,
+            BxDF::CoatedConductor($bxdf) => $call,
             BxDF::DiffuseTransmission($bxdf) => $call,
             BxDF::Hair($bxdf) => $call,
             BxDF::DualHair($bxdf) => $call,
@@ -145,6 +147,12 @@ impl From<ThinDielectricBxDF> for BxDF {
 impl From<CoatedDiffuseBxDF> for BxDF {
     fn from(b: CoatedDiffuseBxDF) -> Self {
         BxDF::CoatedDiffuse(b)
+    }
+}
+
+impl From<CoatedConductorBxDF> for BxDF {
+    fn from(b: CoatedConductorBxDF) -> Self {
+        BxDF::CoatedConductor(b)
     }
 }
 

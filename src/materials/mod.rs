@@ -7,6 +7,8 @@
 //! | `dielectric` | `eta` 1.5 (float or spectrum); `roughness` 0; `remaproughness` true |
 //! | `thindielectric` | `eta` 1.5 |
 //! | `coateddiffuse` | `reflectance` 0.5, `roughness` 0, `thickness` 0.01, `eta` 1.5, `albedo` 0, `g` 0, `maxdepth` 10, `nsamples` 1, `remaproughness` true |
+//! | `coatedconductor` | `interface.roughness` 0 (or `interface.uroughness`/`interface.vroughness`), `interface.eta` 1.5 (float or spectrum), `thickness` 0.01, `conductor.eta` metal-Cu-eta, `conductor.k` metal-Cu-k, or `reflectance` (not with them); `conductor.roughness` 0 (or `conductor.uroughness`/`conductor.vroughness`), `albedo` 0, `g` 0 (clamped to [−1, 1]), `maxdepth` 10, `nsamples` 1, `remaproughness` true |
+//! | `mix` | `materials` (two named materials), `amount` 0.5: see [`mix`] |
 //! | `diffusetransmission` | `reflectance` 0.25, `transmittance` 0.25, `scale` 1 |
 //! | `hair` | `sigma_a`, or `reflectance` (alias `color`), or `eumelanin`/`pheomelanin` (default eumelanin 1.3 when none is given); `eta` 1.55, `beta_m` 0.3, `beta_n` 0.3 (both clamped to [0.01, 1]), `alpha` 2° |
 //! | `hair` (dual model) | `ellipse_a`, `ellipse_b`, `d_diff`, `ellipse_orientation`, `diffraction`, `variant`, `internal_fresnel`, `fresnel`, `residual`: see [`dual_hair`] |
@@ -18,8 +20,8 @@
 use crate::bxdfs::dual_hair::{axis_from_reference, DualHairBxDF, DualHairParams};
 use crate::bxdfs::hair::{CircularHairBxDF, HairBxDF, HairLobes};
 use crate::bxdfs::{
-    BxDF, CoatedDiffuseBxDF, ConductorBxDF, DielectricBxDF, DiffuseBxDF, DiffuseTransmissionBxDF,
-    ThinDielectricBxDF, TrowbridgeReitzDistribution, BSDF,
+    BxDF, CoatedConductorBxDF, CoatedDiffuseBxDF, ConductorBxDF, DielectricBxDF, DiffuseBxDF,
+    DiffuseTransmissionBxDF, ThinDielectricBxDF, TrowbridgeReitzDistribution, BSDF,
 };
 use crate::error::{scene_error, Result};
 use crate::interaction::SurfaceInteraction;
@@ -34,6 +36,7 @@ use std::path::Path;
 
 pub mod dual_hair;
 pub mod force_diffuse;
+pub mod mix;
 
 /// Roughness given as (u, v) textures, remapped to α or not.
 #[derive(Clone, Debug)]
@@ -125,11 +128,52 @@ pub enum Material {
         max_depth: u32,
         n_samples: u32,
     },
+    CoatedConductor(Box<CoatedConductor>),
+    /// One of two materials, chosen per hit ([`mix`]).
+    Mix(Box<mix::MixMaterial>),
     /// pbrt-v4's `forcediffuse`: the material's BSDF replaced by a diffuse
     /// one of its albedo ([`force_diffuse`]). The shapes stay as the
     /// material makes them (a dual hair fibre keeps its widened curve and
     /// its orientation), but no BSDF has a diffracting ring.
     ForceDiffuse(Box<Material>),
+}
+
+/// A dielectric coating over a conductor (pbrt-v4's `coatedconductor`).
+#[derive(Clone, Debug)]
+pub struct CoatedConductor {
+    pub interface_roughness: Roughness,
+    pub interface_eta: Eta,
+    pub thickness: FloatTexture,
+    pub conductor_eta: SpectrumTexture,
+    pub conductor_k: SpectrumTexture,
+    /// Replaces η and k when given.
+    pub reflectance: Option<SpectrumTexture>,
+    pub conductor_roughness: Roughness,
+    pub albedo: SpectrumTexture,
+    pub g: FloatTexture,
+    pub max_depth: u32,
+    pub n_samples: u32,
+}
+
+/// A conductor's η and k: given, or (pbrt-v4) from a reflectance r as
+/// η = 1, k = 2√r / √(1 − r), r clamped below 1.
+fn conductor_eta_k(
+    eta: &SpectrumTexture,
+    k: &SpectrumTexture,
+    reflectance: &Option<SpectrumTexture>,
+    ctx: &TextureEvalContext,
+    lambda: &SampledWavelengths,
+) -> (SampledSpectrum, SampledSpectrum) {
+    match reflectance {
+        Some(r) => {
+            let r = r.evaluate(ctx, lambda).map(|v| v.clamp(0.0, 0.9999));
+            (
+                SampledSpectrum::ONE,
+                (r.sqrt() * 2.0) / (SampledSpectrum::ONE - r).sqrt(),
+            )
+        }
+        None => (eta.evaluate(ctx, lambda), k.evaluate(ctx, lambda)),
+    }
 }
 
 fn eta_param(tp: &TextureParams, name: &str) -> Result<Eta> {
@@ -252,6 +296,8 @@ impl Material {
             Material::Conductor { roughness, .. }
             | Material::Dielectric { roughness, .. }
             | Material::CoatedDiffuse { roughness, .. } => smooth(roughness),
+            Material::CoatedConductor(c) => smooth(&c.interface_roughness),
+            Material::Mix(m) => m.materials().iter().any(Material::can_be_specular),
             Material::ThinDielectric { .. } => true,
             Material::ForceDiffuse(_) => false,
             _ => false,
@@ -363,6 +409,38 @@ impl Material {
                 max_depth: p.int("maxdepth", 10)?.max(1) as u32,
                 n_samples: p.int("nsamples", 1)?.max(1) as u32,
             },
+            "coatedconductor" => {
+                let reflectance = tp.spectrum_texture_opt("reflectance", SpectrumKind::Albedo)?;
+                let eta = tp.spectrum_texture_opt("conductor.eta", SpectrumKind::Unbounded)?;
+                let k = tp.spectrum_texture_opt("conductor.k", SpectrumKind::Unbounded)?;
+                if reflectance.is_some() && (eta.is_some() || k.is_some()) {
+                    return scene_error("coatedconductor: \"reflectance\" cannot be given with \"conductor.eta\" or \"conductor.k\"", loc);
+                }
+                let eta =
+                    eta.or_else(|| named_spectrum("metal-Cu-eta").map(SpectrumTexture::Constant));
+                let k = k.or_else(|| named_spectrum("metal-Cu-k").map(SpectrumTexture::Constant));
+                let (Some(conductor_eta), Some(conductor_k)) = (eta, k) else {
+                    return scene_error("coatedconductor: the default copper spectra are not available; give \"conductor.eta\" and \"conductor.k\" or \"reflectance\"", loc);
+                };
+                Material::CoatedConductor(Box::new(CoatedConductor {
+                    interface_roughness: Roughness::read(&tp, "interface.", 0.0)?,
+                    interface_eta: eta_param(&tp, "interface.eta")?,
+                    thickness: tp.float_texture("thickness", 0.01)?,
+                    conductor_eta,
+                    conductor_k,
+                    reflectance,
+                    conductor_roughness: Roughness::read(&tp, "conductor.", 0.0)?,
+                    albedo: tp.spectrum_texture(
+                        "albedo",
+                        Spectrum::Constant(0.0),
+                        SpectrumKind::Albedo,
+                    )?,
+                    g: tp.float_texture("g", 0.0)?,
+                    max_depth: p.int("maxdepth", 10)?.max(1) as u32,
+                    n_samples: p.int("nsamples", 1)?.max(1) as u32,
+                }))
+            }
+            "mix" => Material::Mix(Box::new(mix::MixMaterial::create(&tp, loc)?)),
             "hair" => {
                 let sigma_a = tp.spectrum_texture_opt("sigma_a", SpectrumKind::Unbounded)?;
                 let reflectance = tp.spectrum_texture_opt("reflectance", SpectrumKind::Albedo)?;
@@ -446,6 +524,35 @@ impl Material {
         let clamp01 = |s: SampledSpectrum| s.map(|v| v.clamp(0.0, 1.0));
         let bxdf = match self {
             Material::Interface => return None,
+            Material::Mix(m) => return m.choose(si, ctx).bsdf(si, ctx, lambda),
+            Material::CoatedConductor(c) => {
+                // As pbrt-v4: the conductor's η and k relative to the
+                // coating's η (an η of 0 read as 1).
+                let mut ieta = eval_eta(&c.interface_eta, lambda);
+                if ieta == 0.0 {
+                    ieta = 1.0;
+                }
+                let (ce, ck) = conductor_eta_k(
+                    &c.conductor_eta,
+                    &c.conductor_k,
+                    &c.reflectance,
+                    ctx,
+                    lambda,
+                );
+                BxDF::CoatedConductor(CoatedConductorBxDF::new(
+                    DielectricBxDF::new(ieta, c.interface_roughness.distribution(ctx)),
+                    ConductorBxDF::new(
+                        c.conductor_roughness.distribution(ctx),
+                        ce / ieta,
+                        ck / ieta,
+                    ),
+                    c.thickness.evaluate(ctx).max(f32::MIN_POSITIVE),
+                    clamp01(c.albedo.evaluate(ctx, lambda)),
+                    c.g.evaluate(ctx).clamp(-1.0, 1.0),
+                    c.max_depth,
+                    c.n_samples,
+                ))
+            }
             Material::ForceDiffuse(inner) => {
                 let bsdf = inner.bsdf(si, ctx, lambda)?;
                 return Some(force_diffuse::diffuse_equivalent(&bsdf, si, lambda));
@@ -468,17 +575,7 @@ impl Material {
                 roughness,
             } => {
                 let distrib = roughness.distribution(ctx);
-                let (etas, ks) = match reflectance {
-                    // pbrt-v4: a reflectance r gives η = 1, k = 2√r / √(1 − r).
-                    Some(r) => {
-                        let r = r.evaluate(ctx, lambda).map(|v| v.clamp(0.0, 0.9999));
-                        (
-                            SampledSpectrum::ONE,
-                            (r.sqrt() * 2.0) / (SampledSpectrum::ONE - r).sqrt(),
-                        )
-                    }
-                    None => (eta.evaluate(ctx, lambda), k.evaluate(ctx, lambda)),
-                };
+                let (etas, ks) = conductor_eta_k(eta, k, reflectance, ctx, lambda);
                 BxDF::Conductor(ConductorBxDF::new(distrib, etas, ks))
             }
             Material::Dielectric { eta, roughness } => {

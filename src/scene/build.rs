@@ -578,6 +578,7 @@ fn create_materials<'s>(
         named_index.insert(name.as_str(), materials.len() as u32);
         materials.push(Material::create(m, textures, base)?);
     }
+    crate::materials::mix::resolve(&mut materials, &named_index)?;
     if scene.options.force_diffuse {
         materials = materials
             .into_iter()

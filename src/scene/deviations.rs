@@ -3,8 +3,8 @@
 //! actually meets is named once, at the file:line:col of the first thing
 //! that meets it, so no image differs from pbrt-v4's without saying so.
 //!
-//! - **Named metal spectra** (`metal-Cu-eta`, …, and `conductor`'s default
-//!   copper): rpbrt's n, k come from published measurements, not pbrt-v4's
+//! - **Named metal spectra** (`metal-Cu-eta`, …, and the default copper
+//!   of `conductor` and `coatedconductor`): rpbrt's n, k come from published measurements, not pbrt-v4's
 //!   tables; close, not identical.
 //! - **Texture filtering after specular bounces**: pbrt-v4 carries ray
 //!   differentials through perfectly smooth reflection and refraction;
@@ -101,15 +101,20 @@ pub fn warnings(
         .materials
         .iter()
         .chain(scene.named_materials.values())
-        .find(|m| {
-            m.kind == "conductor"
-                && ["eta", "k", "reflectance"]
-                    .iter()
-                    .all(|n| m.params.own().all(|p| p.name != *n))
+        .find_map(|m| {
+            let names = match m.kind.as_str() {
+                "conductor" => ["eta", "k", "reflectance"],
+                "coatedconductor" => ["conductor.eta", "conductor.k", "reflectance"],
+                _ => return None,
+            };
+            names
+                .iter()
+                .all(|n| m.params.own().all(|p| p.name != *n))
+                .then_some((m, names))
         });
-    if let Some(m) = default_copper {
+    if let Some((m, [eta, k, reflectance])) = default_copper {
         out.push(Warning {
-            message: "conductor without \"eta\", \"k\" or \"reflectance\" is copper: rpbrt's copper n, k are published measurements, not pbrt-v4's tables (close, not identical)".into(),
+            message: format!("{} without \"{eta}\", \"{k}\" or \"{reflectance}\" is copper: rpbrt's copper n, k are published measurements, not pbrt-v4's tables (close, not identical)", m.kind),
             location: m.location.0.clone(),
         });
     }
