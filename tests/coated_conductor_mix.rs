@@ -101,7 +101,7 @@ fn coated_conductor_and_mix_errors() {
             Ok(loaded) => loaded,
             Err(e) => return e.to_string(),
         };
-        match rpbrt::scene::build::build(&loaded.scene, &RenderOverrides::default()) {
+        match rpbrt::scene::build::build(loaded.scene, &RenderOverrides::default()) {
             Ok(_) => panic!("no error for {world:?}"),
             Err(e) => e.to_string(),
         }
