@@ -17,6 +17,7 @@ pub mod interaction;
 pub mod lights;
 pub mod materials;
 pub mod math;
+pub mod media;
 pub mod memory;
 pub mod pipeline;
 pub mod render;

@@ -38,7 +38,7 @@ fn mis_weight(volpath: bool, f: f32, g: f32) -> f32 {
 /// ([`SurfaceInteraction::spawn_ray_through`]), and an area light's density
 /// is then taken along the line the path really follows, not from a point
 /// pushed a curve's width sideways.
-fn light_context(si: &SurfaceInteraction, ring: bool) -> LightSampleContext {
+pub(super) fn light_context(si: &SurfaceInteraction, ring: bool) -> LightSampleContext {
     LightSampleContext {
         p: si.p,
         p_error: if ring { Vec3::ZERO } else { si.p_error },
@@ -254,7 +254,7 @@ pub fn path_li(
 
 /// Where lights are sampled from at `si`: offset to the side light can
 /// arrive from when the BSDF only reflects or only transmits.
-fn nee_context(si: &SurfaceInteraction, bsdf: &BSDF) -> LightSampleContext {
+pub(super) fn nee_context(si: &SurfaceInteraction, bsdf: &BSDF) -> LightSampleContext {
     let mut ctx = light_context(si, bsdf.diffracting_ring().is_some());
     let flags = bsdf.flags();
     if flags.is_reflective() && !flags.is_transmissive() {

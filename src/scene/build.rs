@@ -15,6 +15,7 @@ use crate::interaction::SurfaceInteraction;
 use crate::lights::{self, Light, LightSampler};
 use crate::materials::Material;
 use crate::math::{offset_ray_origin, Bounds3, Ray};
+use crate::media::{Medium, MediumInterface};
 use crate::samplers::Sampler;
 use crate::scene_description::{Entity, SceneDescription, TextureValue};
 use crate::shapes::curve::CurvePiece;
@@ -77,6 +78,8 @@ pub struct Primitive {
     pub area_light: Option<u32>,
     /// Index into [`BuiltScene::alpha_textures`] of its cutout, if any.
     pub alpha: Option<u32>,
+    /// The media on its two sides, where they differ.
+    pub medium_interface: Option<MediumInterface>,
 }
 
 pub struct BuiltScene {
@@ -102,6 +105,13 @@ pub struct BuiltScene {
     pub light_sampler: LightSampler,
     /// Alpha cutout textures of the primitives that have one.
     pub alpha_textures: Vec<FloatTexture>,
+    /// Participating media, by index (`MediumInterface`'s).
+    pub media: Vec<Medium>,
+    /// The medium camera rays start in.
+    pub camera_medium: Option<u16>,
+    /// Whether rays meet media at all (the camera or some surface has
+    /// one): only then is the volumetric path tracer used.
+    pub has_media: bool,
     pub warnings: Vec<Warning>,
 }
 
@@ -357,6 +367,9 @@ pub fn build(mut description: SceneDescription, overrides: &RenderOverrides) -> 
     // Differentials are only worth computing when some texture varies.
     integrator.texture_filtering &= some_texture_varies(&textures);
 
+    let (media, medium_index) = create_media(scene, &render_from_world)?;
+    let camera_medium = medium_ref(&medium_index, &scene.camera.medium);
+
     let (materials, named_index) = create_materials(scene, &textures)?;
     integrator.connect_diffraction &= materials.iter().any(Material::has_diffracting_ring);
     for (material, entity) in materials
@@ -380,6 +393,7 @@ pub fn build(mut description: SceneDescription, overrides: &RenderOverrides) -> 
         textures: &textures,
         materials: &materials,
         named_materials: &named_index,
+        media: &medium_index,
         base,
         flattened: &plan.flattened,
     };
@@ -412,6 +426,14 @@ pub fn build(mut description: SceneDescription, overrides: &RenderOverrides) -> 
 
     let (infinite_lights, light_sampler) =
         prepare_lights(scene, &mut lights, &shapes, &bvh, &instances)?;
+    let has_media =
+        camera_medium.is_some() || primitives.iter().any(|p| p.medium_interface.is_some());
+    if has_media && integrator.kind == IntegratorKind::Path {
+        warnings.push(Warning {
+            message: "the \"path\" integrator ignores participating media (as pbrt-v4's does); use \"volpath\"".into(),
+            location: scene.integrator.location.0.clone(),
+        });
+    }
     Ok(BuiltScene {
         camera,
         film,
@@ -428,19 +450,50 @@ pub fn build(mut description: SceneDescription, overrides: &RenderOverrides) -> 
         infinite_lights,
         light_sampler,
         alpha_textures,
+        media,
+        camera_medium,
+        has_media: has_media && integrator.kind == IntegratorKind::VolPath,
         warnings,
     })
 }
 
-/// Refuses what the renderer does not support yet: participating media
-/// and an animated camera.
-fn check_supported(scene: &SceneDescription) -> Result<()> {
-    if let Some(m) = scene.media.first() {
-        return scene_error(
-            "participating media are not supported yet",
-            &m.entity.location.0,
-        );
+/// The media phase (pbrt-v4's `CreateMedia`): each `MakeNamedMedium`, with
+/// each name's index.
+fn create_media<'s>(
+    scene: &'s SceneDescription,
+    render_from_world: &crate::math::Transform,
+) -> Result<(Vec<Medium>, HashMap<&'s str, u16>)> {
+    let mut media = Vec::new();
+    let mut index = HashMap::new();
+    for m in &scene.media {
+        if media.len() > u16::MAX as usize {
+            return scene_error(
+                format!(
+                    "too many media: a scene may have at most {}",
+                    u16::MAX as usize + 1
+                ),
+                &m.entity.location.0,
+            );
+        }
+        let render_from_medium = render_from_world.then(&m.world_from_medium);
+        index.insert(m.name.as_str(), media.len() as u16);
+        media.push(Medium::create(
+            &m.entity,
+            &render_from_medium,
+            &scene.base_directory,
+        )?);
     }
+    Ok((media, index))
+}
+
+/// The medium a name refers to (`""`: none; the scene builder has checked
+/// that every name is defined).
+fn medium_ref(index: &HashMap<&str, u16>, name: &str) -> Option<u16> {
+    index.get(name).copied()
+}
+
+/// Refuses what the renderer does not support yet: an animated camera.
+fn check_supported(scene: &SceneDescription) -> Result<()> {
     if scene.camera.camera_from_world.is_animated() {
         return scene_error(
             "an animated camera (motion blur) is not supported yet",
@@ -698,6 +751,7 @@ fn create_primitives_and_lights<'s>(
                     material: placed.material,
                     area_light,
                     alpha,
+                    medium_interface: placed.medium_interface,
                 });
             }
             group_ends[placed.group] = primitives.len();

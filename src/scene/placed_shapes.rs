@@ -11,6 +11,7 @@ use super::instancing::ShapePlacement;
 use crate::error::{scene_error, Error, Result};
 use crate::materials::Material;
 use crate::math::Transform;
+use crate::media::MediumInterface;
 use crate::scene_description::{Entity, MaterialRef, SceneDescription};
 use crate::shapes::curve::frame::{strand_angle, FibreFrame};
 use crate::shapes::{create_shapes, Shape, ShapeStorage};
@@ -35,6 +36,8 @@ pub struct PlacedShapes<'s> {
     /// light) emit unseen.
     pub invisible: bool,
     pub area_light: Option<&'s Entity>,
+    /// The media on its two sides, where they differ.
+    pub medium_interface: Option<MediumInterface>,
 }
 
 /// A run of placements' shapes, in file order. `error` is the first
@@ -61,6 +64,8 @@ pub struct Context<'a> {
     pub textures: &'a NamedTextures,
     pub materials: &'a [Material],
     pub named_materials: &'a HashMap<&'a str, u32>,
+    /// Media by name.
+    pub media: &'a HashMap<&'a str, u16>,
     pub base: &'a Path,
     /// The plan's flattened instances' transforms
     /// (`ShapePlacement::flattened_instance`).
@@ -131,6 +136,7 @@ fn place<'s>(
         shape_count: 0,
         area_light: None,
         invisible: false,
+        medium_interface: None,
     };
     let loc = &shape.entity.location.0;
     placed.alpha = match Alpha::create(shape, context.textures, context.base)? {
@@ -148,9 +154,9 @@ fn place<'s>(
     if transform.is_animated() {
         return scene_error("animated shapes (motion blur) are not supported yet", loc);
     }
-    if !shape.inside_medium.is_empty() || !shape.outside_medium.is_empty() {
-        return scene_error("participating media are not supported yet", loc);
-    }
+    let inside = context.media.get(shape.inside_medium.as_str()).copied();
+    let outside = context.media.get(shape.outside_medium.as_str()).copied();
+    placed.medium_interface = (inside != outside).then_some(MediumInterface { inside, outside });
     let mut render_from_object = context.render_from_world.then(&transform.start);
     if let Some(instance) = placement.flattened_instance {
         render_from_object = context.flattened[instance as usize].then(&render_from_object);

@@ -383,7 +383,7 @@ fn slots(category: Category, kind: &str) -> Option<[&'static [Slot]; 3]> {
         ],
         (Medium, "cloud") => &[
             ("density", F),
-            ("wavelength", F),
+            ("wispiness", F),
             ("frequency", F),
             ("p0", P3),
             ("p1", P3),
