@@ -9,7 +9,7 @@
 //! | `sigma_a`, `sigma_s` | spectrum | 1 | coefficients at density 1 |
 //! | `scale`   | float | 1 | multiplies σa and σs |
 //! | `g`       | float | 0 | Henyey–Greenstein asymmetry |
-//! | `Le`      | spectrum | 0 | emitted radiance (illuminant spectrum) |
+//! | `Le`      | spectrum | 0 | emitted radiance (illuminant spectrum, divided by its luminance) |
 //! | `Lescale` | float or float[nx·ny·nz] | 1 | multiplies `Le` (or the blackbody) |
 //! | `temperature` | float[nx·ny·nz] | none | blackbody emission instead of `Le` |
 //! | `temperatureoffset`, `temperaturescale` | float | 0, 1 | kelvin = (T − offset)·scale |
@@ -44,7 +44,8 @@ pub struct GridMedium {
 
 #[derive(Clone, Debug)]
 enum EmissionSource {
-    Spectrum(Spectrum),
+    /// The spectrum and its normalisation.
+    Spectrum(Spectrum, f32),
     Temperature {
         grid: SampledGrid<f32>,
         offset: f32,
@@ -147,7 +148,11 @@ impl GridMedium {
             (Some(_), Some(_)) => {
                 return scene_error("both \"Le\" and \"temperature\" were given", loc);
             }
-            (Some(le), None) if le.max_value() > 0.0 => Some(EmissionSource::Spectrum(le)),
+            (Some(le), None) if le.max_value() > 0.0 => {
+                // Divided by its luminance, as a light's.
+                let norm = super::emission_norm(&le);
+                Some(EmissionSource::Spectrum(le, 1.0 / norm))
+            }
             (None, Some(grid)) => Some(EmissionSource::Temperature {
                 grid,
                 offset: t_offset,
@@ -186,7 +191,7 @@ impl GridMedium {
                     SampledSpectrum::ZERO
                 } else {
                     match &e.source {
-                        EmissionSource::Spectrum(le) => le.sample(lambda) * s,
+                        EmissionSource::Spectrum(le, norm) => le.sample(lambda) * (s * norm),
                         EmissionSource::Temperature {
                             grid,
                             offset,

@@ -7,10 +7,10 @@
 //! | `scale`   | float | 1 | multiplies σa and σs |
 //! | `preset`  | string | none | named measured σa, σs (replace the two above) |
 //! | `g`       | float | 0 | Henyey–Greenstein asymmetry |
-//! | `Le`      | spectrum | 0 | emitted radiance (an illuminant spectrum) |
+//! | `Le`      | spectrum | 0 | emitted radiance (an illuminant spectrum, divided by its luminance as a light's) |
 //! | `Lescale` | float | 1 | multiplies `Le` |
 
-use super::{scattering_coefficients, MajorantSegment, MediumProperties};
+use super::{emission_norm, scattering_coefficients, MajorantSegment, MediumProperties};
 use crate::error::{scene_error, Result};
 use crate::scene_description::Entity;
 use crate::spectrum::color_space::SpectrumKind;
@@ -41,12 +41,15 @@ impl HomogeneousMedium {
         }
         let le = spectrum_param(p, "Le", SpectrumKind::Illuminant, entity.color_space, base)?
             .unwrap_or(Spectrum::Constant(0.0));
+        // As a light's: `Le` is divided by its luminance, so that the
+        // `Lescale` says how bright it is.
+        let le_scale = p.float("Lescale", 1.0)? as f32 / emission_norm(&le);
         Ok(HomogeneousMedium {
             sigma_a,
             sigma_s,
             scale,
             le,
-            le_scale: p.float("Lescale", 1.0)? as f32,
+            le_scale,
             g: p.float("g", 0.0)? as f32,
         })
     }

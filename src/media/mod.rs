@@ -171,6 +171,17 @@ fn scattering_coefficients(entity: &Entity, base: &Path) -> Result<(Spectrum, Sp
     ))
 }
 
+/// What an emission spectrum is divided by (its luminance, as pbrt-v4
+/// does for lights and media); 1 for a black one.
+fn emission_norm(le: &Spectrum) -> f32 {
+    let y = crate::spectrum::spectrum_to_photometric(le);
+    if y > 0.0 {
+        y
+    } else {
+        1.0
+    }
+}
+
 /// Samples the majorant transmittance along `ray` up to `t_max` (pbrt-v4's
 /// `SampleT_maj`): tentative collisions are drawn with density
 /// σmaj e^(−σmaj t) for the first wavelength, and `callback` gets each
