@@ -67,12 +67,12 @@ fn scattering_ball_in_a_white_furnace_renders_one() {
 
 /// Through the middle of an absorbing ball (d = 2), the sky is dimmed by
 /// exp(−σa d) in each channel: a narrow view of the centre, compared
-/// with the analytic value (a grey σa, so the RGB is the spectrum's).
+/// with the analytic value (σa constant over wavelength).
 #[test]
 fn absorbing_ball_transmits_exp_minus_sigma_d() {
     let sigma = 0.6f32;
     let medium = format!(
-        "\"homogeneous\" \"rgb sigma_a\" [{sigma} {sigma} {sigma}] \"rgb sigma_s\" [0 0 0]"
+        "\"homogeneous\" \"spectrum sigma_a\" [360 {sigma} 830 {sigma}] \"rgb sigma_s\" [0 0 0]"
     );
     let image = render("absorber", &ball(&medium, "\"interface\"", 8, 0.5), 16, 2);
     let m = mean(&image);
