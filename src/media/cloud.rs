@@ -1,18 +1,19 @@
 //! pbrt-v4's `cloud` medium: a procedural cloud in a box, its density
-//! from sums of Perlin noise that thin out with height (y).
+//! from sums of Perlin noise that thin out with height (y, in the
+//! medium's space: the box only bounds it).
 //!
 //! | parameter | type | default | meaning |
 //! |-----------|------|---------|---------|
 //! | `density` | float | 1 | overall density of the noise |
 //! | `wispiness` | float | 1 | how much the lookup point is warped by noise |
-//! | `frequency` | float | 5 | noise frequency over the unit box |
+//! | `frequency` | float | 5 | noise frequency per unit of the medium's space |
 //! | `p0`, `p1` | point3 | (0,0,0), (1,1,1) | the box, in the medium's space |
 //! | `sigma_a`, `sigma_s` | spectrum | 1 | coefficients at density 1 |
 //! | `scale`   | float | 1 | multiplies σa and σs |
 //! | `g`       | float | 0 | Henyey–Greenstein asymmetry |
 //!
-//! The warp uses the noise's gradient, taken here by central
-//! differences.
+//! The warp moves the lookup point along the noise's gradient, taken by
+//! forward differences as pbrt-v4 does.
 
 use super::cuboid::Cuboid;
 use super::grid::cuboid;
@@ -37,10 +38,12 @@ pub struct CloudMedium {
     frequency: f32,
 }
 
-/// The gradient of [`noise`] at `p`.
+/// The gradient of [`noise`] at `p`, by forward differences 0.01 long
+/// (pbrt-v4's step: the warp, and so the cloud's shape, depends on it).
 fn noise_gradient(p: Vec3) -> Vec3 {
-    const H: f32 = 1e-3;
-    let d = |axis: Vec3| (noise(p + H * axis) - noise(p - H * axis)) / (2.0 * H);
+    const H: f32 = 0.01;
+    let n = noise(p);
+    let d = |axis: Vec3| (noise(p + H * axis) - n) / H;
     Vec3::new(d(Vec3::X), d(Vec3::Y), d(Vec3::Z))
 }
 
@@ -60,7 +63,7 @@ impl CloudMedium {
         })
     }
 
-    /// The cloud's density at `p` in the unit box, 0…1.
+    /// The cloud's density at medium-space `p`, 0…1.
     fn density_at(&self, p: Vec3) -> f32 {
         let mut pp = self.frequency * p;
         if self.wispiness > 0.0 {
@@ -83,7 +86,9 @@ impl CloudMedium {
     }
 
     pub fn sample_point(&self, p: Vec3, lambda: &SampledWavelengths) -> MediumProperties {
-        let d = self.density_at(self.cuboid.unit(p)) * self.scale;
+        // pbrt-v4 evaluates the cloud at the medium-space point itself, not
+        // at its place in the box.
+        let d = self.density_at(self.cuboid.medium_point(p)) * self.scale;
         MediumProperties {
             sigma_a: self.sigma_a.sample(lambda) * d,
             sigma_s: self.sigma_s.sample(lambda) * d,

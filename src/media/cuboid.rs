@@ -49,6 +49,11 @@ impl Cuboid {
         Some((t0, t1))
     }
 
+    /// Render-space `p` in the medium's space.
+    pub fn medium_point(&self, p: Vec3) -> Vec3 {
+        self.medium_from_render.transform_point3(p)
+    }
+
     /// Render-space `p` in the box's own coordinates, 0…1 on each axis
     /// (pbrt's `Bounds3::Offset`).
     pub fn unit(&self, p: Vec3) -> Vec3 {
