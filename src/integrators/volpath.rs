@@ -535,7 +535,7 @@ mod tests {
              Material \"interface\"\nShape \"sphere\"\nAttributeEnd\n"
         );
         let loaded = crate::scene::load_text(Path::new("media.pbrt"), &text).unwrap();
-        let scene = build(&loaded.scene, &RenderOverrides::default()).unwrap();
+        let scene = build(loaded.scene, &RenderOverrides::default()).unwrap();
         assert!(scene.has_media);
         scene
     }
