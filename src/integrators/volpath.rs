@@ -24,7 +24,7 @@ use super::ray_counts::RayCounts;
 use crate::bxdfs::{BxDFReflTransFlags, HenyeyGreenstein, TransportMode, BSDF};
 use crate::cameras::CameraRay;
 use crate::interaction::SurfaceInteraction;
-use crate::lights::{Light, LightKind, LightSampleContext};
+use crate::lights::{Light, LightSampleContext};
 use crate::materials::Material;
 use crate::math::hash::{hash_floats, hash_vector};
 use crate::math::pcg32::Pcg32;
@@ -239,7 +239,7 @@ pub fn volpath_li(
         si.wo = -ray.direction.normalize();
         if let Some(light_index) = prim.area_light {
             if let Light::DiffuseArea(area) = &scene.lights[light_index as usize] {
-                let le = area.l(si.n, si.wo, lambda);
+                let le = area.l(si.p, si.n, si.uv, si.wo, lambda);
                 if le.is_nonzero() {
                     if depth == 0 || specular_bounce {
                         l += beta * le / r_u.average();
@@ -429,10 +429,7 @@ fn sample_ld(
     }
     let r_l = r_l * r_p * (p_light * ls.pdf);
     let r_u = r_u * r_p * scatter_pdf;
-    let weight = if matches!(
-        light.kind(),
-        LightKind::DeltaPosition | LightKind::DeltaDirection
-    ) {
+    let weight = if light.sampled_only() {
         r_l.average()
     } else {
         (r_l + r_u).average()
