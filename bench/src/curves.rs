@@ -19,6 +19,9 @@
 //! | `--file` | a temporary file | where the scene is written (kept if given) |
 //! | `--baseline` | — | another `rpbrt` executable to measure beside this one (before/after) |
 //! | `--pbrt` | — | a pbrt-v4 executable to measure beside rpbrt |
+//! | `--out` | — | a report (`docs/performance.md`) to write the table into, as its section [`HEADING`] (else printed) |
+//!
+//! `rpbrt report` keeps that section when it rewrites the report.
 
 use crate::error::{io_error, Error, Result};
 use crate::executable::rpbrt_executable;
@@ -49,6 +52,43 @@ pub struct CurvesArgs {
     /// A pbrt-v4 executable to measure beside rpbrt.
     #[arg(long)]
     pub pbrt: Option<PathBuf>,
+    /// A report (e.g. docs/performance.md) to write the table into, as its
+    /// section "## Memory and build at scale"; else printed.
+    #[arg(long)]
+    pub out: Option<PathBuf>,
+}
+
+/// The heading of the report's section this command writes.
+pub const HEADING: &str = "## Memory and build at scale";
+
+/// Where the section headed `heading` of `report` begins and ends (at the
+/// next `## ` heading or the end), if it has one.
+fn section_range(report: &str, heading: &str) -> Option<std::ops::Range<usize>> {
+    let start = report.find(heading)?;
+    let body = start + heading.len();
+    let end = report[body..]
+        .find("\n## ")
+        .map_or(report.len(), |i| body + i + 1);
+    Some(start..end)
+}
+
+/// `report` with its section headed `heading` replaced by `section`;
+/// without one, `section` goes before the heading `before` (or at the end).
+pub fn splice_section(report: &str, heading: &str, section: &str, before: &str) -> String {
+    let range = section_range(report, heading).unwrap_or_else(|| {
+        let at = report.find(before).unwrap_or(report.len());
+        at..at
+    });
+    format!(
+        "{}{section}{}",
+        &report[..range.start],
+        &report[range.end..]
+    )
+}
+
+/// The section headed [`HEADING`] of `report`, if it has one.
+pub fn section_of(report: &str) -> Option<&str> {
+    section_range(report, HEADING).map(|range| &report[range])
 }
 
 /// What one child process took.
@@ -126,7 +166,17 @@ pub fn run(args: &CurvesArgs) -> Result<()> {
     if temporary {
         let _ = std::fs::remove_file(&file);
     }
-    print!("{}", table(args, megabytes, &programs, &results));
+    let table = table(args, megabytes, &programs, &results);
+    match &args.out {
+        Some(out) => {
+            let old = std::fs::read_to_string(out).map_err(io_error(out))?;
+            let section = format!("{HEADING}\n\n{table}\n");
+            let text = splice_section(&old, HEADING, &section, crate::dual_overhead::HEADING);
+            std::fs::write(out, text).map_err(io_error(out))?;
+            eprintln!("wrote the curve-file table into {}", out.display());
+        }
+        None => print!("{table}"),
+    }
     Ok(())
 }
 
@@ -306,6 +356,28 @@ fn table(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_section_is_replaced_or_put_before_the_dual_table() {
+        let dual = crate::dual_overhead::HEADING;
+        let new = format!("{HEADING}\n\nnew\n");
+        let without = format!("# P\n\n## a\n\nx\n{dual}\n\nd\n");
+        let with = splice_section(&without, HEADING, &new, dual);
+        assert_eq!(
+            with,
+            format!("# P\n\n## a\n\nx\n{HEADING}\n\nnew\n{dual}\n\nd\n")
+        );
+        assert_eq!(section_of(&with), Some(new.as_str()));
+        let newer = format!("{HEADING}\n\nnewer\n");
+        let again = splice_section(&with, HEADING, &newer, dual);
+        assert_eq!(again, with.replace("new\n", "newer\n"));
+        // At the end of a report, to its end.
+        let last = format!("# P\n{HEADING}\n\nold\n");
+        assert_eq!(
+            splice_section(&last, HEADING, &new, dual),
+            format!("# P\n{new}")
+        );
+    }
 
     #[test]
     fn reads_the_stats_lines() {

@@ -42,7 +42,7 @@ const TEMPLATE: Template = Template {
 
 /// How the section begins (both template parts do): where `--dual-only`
 /// puts the new section.
-const HEADING: &str = "## Dual model overhead";
+pub const HEADING: &str = "## Dual model overhead";
 use std::process::{Child, Command, Stdio};
 
 /// Samples per pixel of the full-head pair.
