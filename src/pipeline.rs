@@ -6,7 +6,7 @@ use crate::film::RgbFilm;
 use crate::filters::FilterSample;
 use crate::image::pixel_format::count_beyond_half;
 use crate::image::{DataWindow, Image};
-use crate::integrators::{path_li, volpath_li, RayCounts};
+use crate::integrators::{li, RayCounts};
 use crate::render::{interrupt_flag, render};
 use crate::scene::build::{build, RenderOverrides};
 use crate::scene_description::ColorSpaceName;
@@ -116,7 +116,6 @@ pub fn render_file(
             let Some(camera_ray) = built.camera.generate_ray(&sample, &lambda) else {
                 return;
             };
-            let li = if built.has_media { volpath_li } else { path_li };
             let mut l = li(&built, &camera_ray, &mut lambda, sampler, &mut tally.counts)
                 * camera_ray.weight;
             if l.has_nan() || l.0.iter().any(|v| v.is_infinite()) {

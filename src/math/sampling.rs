@@ -38,6 +38,16 @@ pub fn sample_uniform_sphere(u: Vec2) -> Vec3 {
 
 pub const UNIFORM_SPHERE_PDF: f32 = 1.0 / (4.0 * PI);
 
+/// Uniform direction on the upper (z ≥ 0) unit hemisphere.
+pub fn sample_uniform_hemisphere(u: Vec2) -> Vec3 {
+    let z = u.x;
+    let r = (1.0 - z * z).max(0.0).sqrt();
+    let phi = 2.0 * PI * u.y;
+    Vec3::new(r * phi.cos(), r * phi.sin(), z)
+}
+
+pub const UNIFORM_HEMISPHERE_PDF: f32 = 1.0 / (2.0 * PI);
+
 /// Uniform barycentrics on a triangle (Heitz's low-distortion mapping, as
 /// pbrt-v4 uses).
 pub fn sample_uniform_triangle(u: Vec2) -> [f32; 3] {
@@ -89,9 +99,26 @@ mod tests {
                 let w = sample_cosine_hemisphere(u);
                 assert!(w.z >= 0.0 && (w.length() - 1.0).abs() < 1e-5);
                 assert!((sample_uniform_sphere(u).length() - 1.0).abs() < 1e-5);
+                let h = sample_uniform_hemisphere(u);
+                assert!(h.z >= 0.0 && (h.length() - 1.0).abs() < 1e-5);
                 let b = sample_uniform_triangle(u);
                 assert!(b.iter().all(|&x| (-1e-6..=1.0 + 1e-6).contains(&x)));
             }
         }
+    }
+
+    /// Under a uniform density on the hemisphere the mean of cos θ is 1/2.
+    #[test]
+    fn uniform_hemisphere_mean_cosine_is_half() {
+        let n = 64;
+        let mut sum = 0.0f64;
+        for i in 0..n {
+            for j in 0..n {
+                let u = Vec2::new((i as f32 + 0.5) / n as f32, (j as f32 + 0.5) / n as f32);
+                sum += sample_uniform_hemisphere(u).z as f64;
+            }
+        }
+        let mean = sum / (n * n) as f64;
+        assert!((mean - 0.5).abs() < 1e-3, "{mean}");
     }
 }

@@ -45,10 +45,38 @@ pub struct RenderOverrides {
     pub resolution_divisor: Option<u32>,
 }
 
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum IntegratorKind {
     Path,
     VolPath,
+    AmbientOcclusion(AmbientOcclusionSettings),
+    RandomWalk,
+    SimplePath(SimplePathSettings),
+}
+
+/// The `ambientocclusion` integrator's parameters.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct AmbientOcclusionSettings {
+    /// `"bool cossample"`: directions by cos θ, else uniform.
+    pub cos_sample: bool,
+    /// `"float maxdistance"`: occluders further away do not count.
+    pub max_distance: f32,
+    /// The colour space where the `Integrator` directive stood: its
+    /// illuminant, times `illuminant_scale`, is the colour of an
+    /// unoccluded point.
+    pub color_space: crate::scene_description::ColorSpaceName,
+    /// 1 / the illuminant's photometric integral (so that it is white of
+    /// luminance 1 on the film, as lights' spectra are scaled).
+    pub illuminant_scale: f32,
+}
+
+/// The `simplepath` integrator's switches.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct SimplePathSettings {
+    /// `"bool samplelights"`.
+    pub sample_lights: bool,
+    /// `"bool samplebsdf"`.
+    pub sample_bsdf: bool,
 }
 
 /// Integrator settings (pbrt-v4 `Integrator` parameters).
@@ -874,10 +902,18 @@ fn prepare_lights(
         .filter(|(_, l)| l.kind() == lights::LightKind::Infinite)
         .map(|(i, _)| i)
         .collect();
+    // `simplepath` always chooses lights uniformly (and takes no
+    // "lightsampler"); the other integrators that sample lights default
+    // to the BVH sampler.
+    let default = if scene.integrator.kind == "simplepath" {
+        "uniform"
+    } else {
+        "bvh"
+    };
     let light_sampler = match scene
         .integrator
         .params
-        .string("lightsampler", "bvh")?
+        .string("lightsampler", default)?
         .as_str()
     {
         "uniform" => LightSampler::uniform(lights.len()),
@@ -1009,22 +1045,53 @@ fn dual_hair_width_warning(material: &Material, entity: &Entity) -> Result<Optio
 
 fn integrator_settings(scene: &SceneDescription) -> Result<IntegratorSettings> {
     let e = &scene.integrator;
+    let p = &e.params;
+    let mut max_depth = 5;
+    let mut regularize = false;
+    let mut connect_diffraction = false;
     let kind = match e.kind.as_str() {
-        "path" => IntegratorKind::Path,
-        "volpath" => IntegratorKind::VolPath,
+        "path" | "volpath" => {
+            max_depth = p.int("maxdepth", 5)?;
+            regularize = p.bool("regularize", false)?;
+            p.string("lightsampler", "bvh")?;
+            connect_diffraction = p.bool("connectdiffraction", true)?;
+            if e.kind == "path" {
+                IntegratorKind::Path
+            } else {
+                IntegratorKind::VolPath
+            }
+        }
+        "ambientocclusion" => IntegratorKind::AmbientOcclusion(AmbientOcclusionSettings {
+            cos_sample: p.bool("cossample", true)?,
+            max_distance: p.float("maxdistance", f64::INFINITY)? as f32,
+            color_space: e.color_space,
+            illuminant_scale: 1.0
+                / crate::spectrum::spectrum_to_photometric(
+                    &crate::spectrum::color_space::get(e.color_space).illuminant,
+                ),
+        }),
+        "randomwalk" => {
+            max_depth = p.int("maxdepth", 5)?;
+            IntegratorKind::RandomWalk
+        }
+        "simplepath" => {
+            max_depth = p.int("maxdepth", 5)?;
+            IntegratorKind::SimplePath(SimplePathSettings {
+                sample_lights: p.bool("samplelights", true)?,
+                sample_bsdf: p.bool("samplebsdf", true)?,
+            })
+        }
         other => {
             return scene_error(
-                format!("integrator \"{other}\" is not supported yet (supported: path, volpath)"),
+                format!(
+                    "integrator \"{other}\" is not supported yet (supported: path, volpath, \
+                     simplepath, randomwalk, ambientocclusion)"
+                ),
                 &e.location.0,
             )
         }
     };
-    let max_depth = e.params.int("maxdepth", 5)?;
-    let regularize = e.params.bool("regularize", false)?;
-    e.params.string("lightsampler", "bvh")?;
-    let connect_diffraction = e.params.bool("connectdiffraction", true)?;
-    e.params
-        .report_unused(|| format!("integrator \"{}\"", e.kind))?;
+    p.report_unused(|| format!("integrator \"{}\"", e.kind))?;
     Ok(IntegratorSettings {
         kind,
         max_depth,
