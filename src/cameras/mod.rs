@@ -8,6 +8,7 @@
 //! camera, which keeps coordinates small where the rays are.
 
 pub mod differentials;
+pub mod importance;
 pub mod orthographic;
 pub mod perspective;
 pub mod spherical;

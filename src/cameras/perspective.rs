@@ -23,12 +23,15 @@ pub struct PerspectiveCamera {
     pub shutter_close: f32,
     /// Screen-window corner at raster (0, 0), and the screen extent per
     /// raster pixel (y decreases downwards).
-    screen_origin: Vec2,
-    screen_per_pixel: Vec2,
+    pub(super) screen_origin: Vec2,
+    pub(super) screen_per_pixel: Vec2,
     /// tan(fov / 2).
-    tan_half_fov: f32,
+    pub(super) tan_half_fov: f32,
     pub(super) lens_radius: f32,
-    focal_distance: f32,
+    pub(super) focal_distance: f32,
+    /// Area of the image on the z = 1 plane of camera space (for the
+    /// camera's importance, [`super::importance`]).
+    pub(super) image_plane_area: f32,
     pub min_differentials: MinimumDifferentials,
     /// Whether camera samples are jittered across the pixel (false under
     /// `Option "disablepixeljitter" true`): a ray's footprint is then a
@@ -84,6 +87,9 @@ impl PerspectiveCamera {
             tan_half_fov,
             lens_radius,
             focal_distance,
+            image_plane_area: ((window[1] - window[0]) * (window[3] - window[2])).abs()
+                * tan_half_fov
+                * tan_half_fov,
             min_differentials,
             pixel_jitter: true,
         })
