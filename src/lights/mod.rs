@@ -5,6 +5,7 @@ pub mod bvh_sampler;
 pub mod create;
 pub mod diffuse_area;
 pub mod distant;
+pub mod emission;
 pub mod goniometric;
 pub mod image_infinite;
 pub mod light_bounds;
