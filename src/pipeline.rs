@@ -2,13 +2,15 @@
 
 use crate::cameras::CameraSample;
 use crate::error::{Error, Result};
+use crate::film::splat::SplatBuffer;
 use crate::film::RgbFilm;
 use crate::filters::FilterSample;
 use crate::image::pixel_format::count_beyond_half;
 use crate::image::{DataWindow, Image};
+use crate::integrators::light_path::trace_light_path;
 use crate::integrators::{li, RayCounts};
 use crate::render::{interrupt_flag, render};
-use crate::scene::build::{build, RenderOverrides};
+use crate::scene::build::{build, IntegratorKind, RenderOverrides};
 use crate::scene_description::ColorSpaceName;
 use crate::spectrum::SampledWavelengths;
 use glam::Vec2;
@@ -73,6 +75,10 @@ pub fn render_file(
         !options.disable_pixel_jitter,
     );
     let uses_lens = built.camera.uses_lens();
+    // Light tracing deposits its light on the film anywhere (splats); the
+    // other integrators add one sample to their own pixel.
+    let splats = (built.integrator.kind == IntegratorKind::LightPath)
+        .then(|| SplatBuffer::new(film.pixel_bounds));
     let outcome = render(
         film.pixel_bounds,
         spp,
@@ -82,6 +88,13 @@ pub fn render_file(
         || (built.sampler.clone(), RayTally::new(&rays)),
         |(sampler, tally), pixel, index, acc| {
             sampler.start_pixel_sample(pixel, index, 0);
+            if let Some(splats) = &splats {
+                let lu = sampler.get_1d();
+                let mut lambda =
+                    SampledWavelengths::sample_visible(if wavelength_jitter { lu } else { 0.5 });
+                trace_light_path(&built, &mut lambda, sampler, splats, &mut tally.counts);
+                return;
+            }
             // Without jitter (pbrt-v4's `disablewavelengthjitter` and
             // `disablepixeljitter`) the numbers are drawn all the same, so
             // later dimensions stay pbrt-v4's: the wavelengths are those of
@@ -133,8 +146,14 @@ pub fn render_file(
     let (lo, hi) = film.pixel_bounds;
     let (w, h) = ((hi.x - lo.x) as u32, (hi.y - lo.y) as u32);
     let mut data = Vec::with_capacity((w * h * 3) as usize);
-    for p in &outcome.pixels {
-        let rgb = film.pixel_rgb(p);
+    // Splats are averaged over the samples each pixel took, and the
+    // filter's weights over its integral, as pbrt-v4's film does.
+    let splat_scale = 1.0 / (outcome.samples_completed.max(1) as f32 * built.filter.integral());
+    for (i, p) in outcome.pixels.iter().enumerate() {
+        let mut rgb = film.pixel_rgb(p);
+        if let Some(splats) = &splats {
+            rgb += film.splat_rgb(splats.sum(i) * splat_scale);
+        }
         data.extend_from_slice(&[rgb.x, rgb.y, rgb.z]);
     }
     let io_error = |e: crate::image::ImageError| Error::Io {

@@ -165,6 +165,15 @@ fn simple_integrators_agree_with_path() {
     );
 }
 
+/// Light traced from the lights and splatted onto the film converges to
+/// what `path` finds along camera rays.
+#[test]
+fn light_path_agrees_with_path() {
+    let reference = render("lp-path", &small_box("\"path\""), 1024, 2);
+    let light = render("lp-light", &small_box("\"lightpath\""), 1024, 2);
+    assert_agree("lightpath", &reference, &light, 0.02, 0.08);
+}
+
 /// The same image at one thread and at two, for each integrator.
 #[test]
 fn deterministic_across_thread_counts() {

@@ -165,6 +165,12 @@ impl RgbFilm {
         pixel.weight_sum += weight as f64;
     }
 
+    /// Splatted sensor RGB (a splat buffer's sum, already scaled) in the
+    /// output colour space.
+    pub fn splat_rgb(&self, sensor: Vec3) -> Vec3 {
+        self.output_rgb_from_sensor * sensor
+    }
+
     /// The output RGB of a pixel.
     pub fn pixel_rgb(&self, pixel: &Pixel) -> Vec3 {
         if pixel.weight_sum == 0.0 {

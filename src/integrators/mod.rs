@@ -2,6 +2,7 @@
 
 mod ambient_occlusion;
 mod diffraction_connection;
+pub mod light_path;
 pub mod path;
 mod random_walk;
 pub mod ray_counts;
@@ -44,5 +45,7 @@ pub fn li(
         IntegratorKind::SimplePath(s) => {
             simple_path::simple_path_li(scene, s, camera_ray, lambda, sampler, rays)
         }
+        // Its light reaches the film by splats, not along camera rays.
+        IntegratorKind::LightPath => SampledSpectrum::ZERO,
     }
 }

@@ -52,6 +52,7 @@ pub enum IntegratorKind {
     AmbientOcclusion(AmbientOcclusionSettings),
     RandomWalk,
     SimplePath(SimplePathSettings),
+    LightPath,
 }
 
 /// The `ambientocclusion` integrator's parameters.
@@ -461,6 +462,9 @@ pub fn build(mut description: SceneDescription, overrides: &RenderOverrides) -> 
             message: "the \"path\" integrator ignores participating media (as pbrt-v4's does); use \"volpath\"".into(),
             location: scene.integrator.location.0.clone(),
         });
+    }
+    if integrator.kind == IntegratorKind::LightPath {
+        check_light_tracing(scene, &camera, &lights)?;
     }
     Ok(BuiltScene {
         camera,
@@ -905,10 +909,10 @@ fn prepare_lights(
     // `simplepath` always chooses lights uniformly (and takes no
     // "lightsampler"); the other integrators that sample lights default
     // to the BVH sampler.
-    let default = if scene.integrator.kind == "simplepath" {
-        "uniform"
-    } else {
-        "bvh"
+    let default = match scene.integrator.kind.as_str() {
+        "simplepath" => "uniform",
+        "lightpath" => "power",
+        _ => "bvh",
     };
     let light_sampler = match scene
         .integrator
@@ -1043,6 +1047,31 @@ fn dual_hair_width_warning(material: &Material, entity: &Entity) -> Result<Optio
     }))
 }
 
+/// Light tracing needs the camera's importance and the lights' emission
+/// sampled: refuses what does not have them yet.
+fn check_light_tracing(scene: &SceneDescription, camera: &Camera, lights: &[Light]) -> Result<()> {
+    let e = &scene.integrator;
+    if camera.as_perspective().is_none() {
+        return scene_error(
+            format!(
+                "integrator \"{}\" with camera \"{}\" is not supported yet (perspective only)",
+                e.kind, scene.camera.entity.kind
+            ),
+            &e.location.0,
+        );
+    }
+    if lights.iter().any(|l| !l.samples_emission()) {
+        return scene_error(
+            format!(
+                "integrator \"{}\" with lights other than point and diffuse area lights is not supported yet",
+                e.kind
+            ),
+            &e.location.0,
+        );
+    }
+    Ok(())
+}
+
 fn integrator_settings(scene: &SceneDescription) -> Result<IntegratorSettings> {
     let e = &scene.integrator;
     let p = &e.params;
@@ -1074,6 +1103,10 @@ fn integrator_settings(scene: &SceneDescription) -> Result<IntegratorSettings> {
             max_depth = p.int("maxdepth", 5)?;
             IntegratorKind::RandomWalk
         }
+        "lightpath" => {
+            max_depth = p.int("maxdepth", 5)?;
+            IntegratorKind::LightPath
+        }
         "simplepath" => {
             max_depth = p.int("maxdepth", 5)?;
             IntegratorKind::SimplePath(SimplePathSettings {
@@ -1085,7 +1118,7 @@ fn integrator_settings(scene: &SceneDescription) -> Result<IntegratorSettings> {
             return scene_error(
                 format!(
                     "integrator \"{other}\" is not supported yet (supported: path, volpath, \
-                     simplepath, randomwalk, ambientocclusion)"
+                     simplepath, randomwalk, ambientocclusion, lightpath)"
                 ),
                 &e.location.0,
             )
