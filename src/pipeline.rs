@@ -7,6 +7,7 @@ use crate::film::RgbFilm;
 use crate::filters::FilterSample;
 use crate::image::pixel_format::count_beyond_half;
 use crate::image::{DataWindow, Image};
+use crate::integrators::bdpt::bdpt_li;
 use crate::integrators::light_path::trace_light_path;
 use crate::integrators::{li, RayCounts};
 use crate::render::{interrupt_flag, render};
@@ -77,8 +78,12 @@ pub fn render_file(
     let uses_lens = built.camera.uses_lens();
     // Light tracing deposits its light on the film anywhere (splats); the
     // other integrators add one sample to their own pixel.
-    let splats = (built.integrator.kind == IntegratorKind::LightPath)
-        .then(|| SplatBuffer::new(film.pixel_bounds));
+    let splats = matches!(
+        built.integrator.kind,
+        IntegratorKind::LightPath | IntegratorKind::Bdpt
+    )
+    .then(|| SplatBuffer::new(film.pixel_bounds));
+    let light_path_only = built.integrator.kind == IntegratorKind::LightPath;
     let outcome = render(
         film.pixel_bounds,
         spp,
@@ -88,7 +93,7 @@ pub fn render_file(
         || (built.sampler.clone(), RayTally::new(&rays)),
         |(sampler, tally), pixel, index, acc| {
             sampler.start_pixel_sample(pixel, index, 0);
-            if let Some(splats) = &splats {
+            if let (Some(splats), true) = (&splats, light_path_only) {
                 let lu = sampler.get_1d();
                 let mut lambda =
                     SampledWavelengths::sample_visible(if wavelength_jitter { lu } else { 0.5 });
@@ -129,8 +134,17 @@ pub fn render_file(
             let Some(camera_ray) = built.camera.generate_ray(&sample, &lambda) else {
                 return;
             };
-            let mut l = li(&built, &camera_ray, &mut lambda, sampler, &mut tally.counts)
-                * camera_ray.weight;
+            let mut l = match &splats {
+                Some(splats) => bdpt_li(
+                    &built,
+                    &camera_ray,
+                    &mut lambda,
+                    sampler,
+                    splats,
+                    &mut tally.counts,
+                ),
+                None => li(&built, &camera_ray, &mut lambda, sampler, &mut tally.counts),
+            } * camera_ray.weight;
             if l.has_nan() || l.0.iter().any(|v| v.is_infinite()) {
                 bad.fetch_add(1, Ordering::Relaxed);
                 l = crate::spectrum::SampledSpectrum::ZERO;

@@ -120,7 +120,7 @@ fn small_box(integrator: &str) -> String {
 fn assert_agree(name: &str, a: &Image, b: &Image, mean_tol: f64, block_tol: f64) {
     let (va, vb) = (common::channel_averages(a), common::channel_averages(b));
     let (ma, mb) = (mean(&va), mean(&vb));
-    eprintln!("{name}: means {ma:.4} and {mb:.4}");
+    eprintln!("{name}: means {ma:.6} and {mb:.6}");
     assert!((ma / mb - 1.0).abs() < mean_tol, "{name}: means {ma} {mb}");
     let w = a.width() as usize;
     let mut worst = 0.0f64;
@@ -172,6 +172,103 @@ fn light_path_agrees_with_path() {
     let reference = render("lp-path", &small_box("\"path\""), 1024, 2);
     let light = render("lp-light", &small_box("\"lightpath\""), 1024, 2);
     assert_agree("lightpath", &reference, &light, 0.02, 0.08);
+}
+
+/// Bidirectional path tracing converges to what `path` finds.
+#[test]
+fn bdpt_agrees_with_path() {
+    let reference = render("bd-path", &small_box("\"path\""), 1024, 2);
+    let bdpt = render("bd-bdpt", &small_box("\"bdpt\""), 1024, 2);
+    assert_agree("bdpt", &reference, &bdpt, 0.02, 0.06);
+}
+
+/// `bdpt` and `path` agree on the shared Cornell box (a quarter of its
+/// resolution, 64 spp).
+#[test]
+fn bdpt_agrees_with_path_on_the_cornell_box() {
+    let Some(shared) = common::shared_dir() else {
+        return;
+    };
+    let Ok(text) = std::fs::read_to_string(shared.join("scenes/derived/cornell-box-256.pbrt"))
+    else {
+        eprintln!("skipping: the Cornell box is not in ../shared");
+        return;
+    };
+    let quarter = rpbrt::scene::build::RenderOverrides {
+        resolution_divisor: Some(4),
+        ..Default::default()
+    };
+    let path = common::render_text("cb-path", &text, 64, 2, quarter.clone());
+    let bdpt = text.replace("Integrator \"path\"", "Integrator \"bdpt\"");
+    assert_ne!(bdpt, text);
+    let bdpt = common::render_text("cb-bdpt", &bdpt, 64, 2, quarter);
+    assert_agree("Cornell box", &path, &bdpt, 0.02, 0.06);
+}
+
+/// `bdpt` and `path` agree on the shared Veach scenes (a quarter of their
+/// resolution, 64 spp; their models found where the scenes are): over the
+/// image (path's caustics through the lamps' glass are fireflies at this
+/// count, so blocks are not compared). About three minutes: run with
+/// `--ignored`.
+#[test]
+#[ignore = "slow (minutes): run with --ignored"]
+fn bdpt_agrees_with_path_on_the_veach_scenes() {
+    let Some(shared) = common::shared_dir() else {
+        return;
+    };
+    for name in ["veach-bidir", "veach-mis"] {
+        let dir = shared.join(format!("scenes/gonsolo-bitterli/{name}/pbrt"));
+        let Ok(text) = std::fs::read_to_string(dir.join("scene-v4.pbrt")) else {
+            eprintln!("skipping: {name} is not in ../shared");
+            continue;
+        };
+        let text = text.replace("\"models/", &format!("\"{}/models/", dir.display()));
+        let with = |integrator: &str| {
+            let start = text.find("Integrator \"").unwrap();
+            let end = start + text[start + 12..].find('"').unwrap() + 13;
+            format!(
+                "{}Integrator \"{integrator}\"{}",
+                &text[..start],
+                &text[end..]
+            )
+        };
+        let quarter = rpbrt::scene::build::RenderOverrides {
+            resolution_divisor: Some(4),
+            ..Default::default()
+        };
+        let path = common::render_text("veach-path", &with("path"), 64, 2, quarter.clone());
+        let bdpt = common::render_text("veach-bdpt", &with("bdpt"), 64, 2, quarter);
+        let (mp, mb) = (
+            mean(&common::channel_averages(&path)),
+            mean(&common::channel_averages(&bdpt)),
+        );
+        eprintln!("{name}: means {mp:.6} (path) and {mb:.6} (bdpt)");
+        assert!((mb / mp - 1.0).abs() < 0.03, "{name}: {mp} {mb}");
+    }
+}
+
+/// Inside a sphere that emits 1/2 and reflects half of what reaches it
+/// (diffusely), radiance is 1/2 · Σ (1/2)^k = 1 everywhere (less
+/// (1/2)^(maxdepth+1) for the paths cut off).
+fn enclosure(integrator: &str) -> String {
+    format!(
+        "LookAt 0 0 0  0 0 1  0 1 0\nCamera \"perspective\" \"float fov\" 60\n\
+         Film \"rgb\" \"integer xresolution\" 16 \"integer yresolution\" 16 \"bool savefp16\" false\n\
+         Sampler \"zsobol\"\nIntegrator {integrator} \"integer maxdepth\" 20\nWorldBegin\n\
+         ReverseOrientation\nAreaLightSource \"diffuse\" \"rgb L\" [0.5 0.5 0.5]\n\
+         Material \"diffuse\" \"rgb reflectance\" [0.5 0.5 0.5]\nShape \"sphere\" \"float radius\" 1\n"
+    )
+}
+
+/// The emitting furnace is 1 for every integrator that traces light.
+#[test]
+fn emitting_furnace_is_one() {
+    for integrator in ["\"path\"", "\"bdpt\"", "\"lightpath\""] {
+        let image = render("enclosure", &enclosure(integrator), 32, 2);
+        let m = mean(&common::channel_averages(&image));
+        eprintln!("{integrator}: enclosure mean {m:.4}");
+        assert!((m - 1.0).abs() < 0.02, "{integrator}: {m}");
+    }
 }
 
 /// The same image at one thread and at two, for each integrator.

@@ -1,6 +1,7 @@
 //! Integrators: radiance along camera rays.
 
 mod ambient_occlusion;
+pub mod bdpt;
 mod diffraction_connection;
 pub mod light_path;
 pub mod path;
@@ -45,7 +46,8 @@ pub fn li(
         IntegratorKind::SimplePath(s) => {
             simple_path::simple_path_li(scene, s, camera_ray, lambda, sampler, rays)
         }
-        // Its light reaches the film by splats, not along camera rays.
-        IntegratorKind::LightPath => SampledSpectrum::ZERO,
+        // Their light reaches the film (partly) by splats: the pipeline
+        // calls them with the film's splat buffer.
+        IntegratorKind::LightPath | IntegratorKind::Bdpt => SampledSpectrum::ZERO,
     }
 }

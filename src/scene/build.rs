@@ -53,6 +53,7 @@ pub enum IntegratorKind {
     RandomWalk,
     SimplePath(SimplePathSettings),
     LightPath,
+    Bdpt,
 }
 
 /// The `ambientocclusion` integrator's parameters.
@@ -457,13 +458,31 @@ pub fn build(mut description: SceneDescription, overrides: &RenderOverrides) -> 
         prepare_lights(scene, &mut lights, &shapes, &bvh, &instances)?;
     let has_media =
         camera_medium.is_some() || primitives.iter().any(|p| p.medium_interface.is_some());
-    if has_media && integrator.kind == IntegratorKind::Path {
-        warnings.push(Warning {
-            message: "the \"path\" integrator ignores participating media (as pbrt-v4's does); use \"volpath\"".into(),
-            location: scene.integrator.location.0.clone(),
-        });
+    if has_media {
+        let e = &scene.integrator;
+        match integrator.kind {
+            IntegratorKind::VolPath => {}
+            // pbrt-v4's bdpt scatters in media: ignoring them would be a
+            // silently different image.
+            IntegratorKind::Bdpt => {
+                return scene_error(
+                    "integrator \"bdpt\" with participating media is not supported yet; use \"volpath\"".into(),
+                    &e.location.0,
+                )
+            }
+            _ => warnings.push(Warning {
+                message: format!(
+                    "the \"{}\" integrator ignores participating media (as pbrt-v4's does); use \"volpath\"",
+                    e.kind
+                ),
+                location: e.location.0.clone(),
+            }),
+        }
     }
-    if integrator.kind == IntegratorKind::LightPath {
+    if matches!(
+        integrator.kind,
+        IntegratorKind::LightPath | IntegratorKind::Bdpt
+    ) {
         check_light_tracing(scene, &camera, &lights)?;
     }
     Ok(BuiltScene {
@@ -909,17 +928,12 @@ fn prepare_lights(
     // `simplepath` always chooses lights uniformly (and takes no
     // "lightsampler"); the other integrators that sample lights default
     // to the BVH sampler.
-    let default = match scene.integrator.kind.as_str() {
-        "simplepath" => "uniform",
-        "lightpath" => "power",
-        _ => "bvh",
+    let kind = match scene.integrator.kind.as_str() {
+        "simplepath" => "uniform".to_string(),
+        "lightpath" | "bdpt" => "power".to_string(),
+        _ => scene.integrator.params.string("lightsampler", "bvh")?,
     };
-    let light_sampler = match scene
-        .integrator
-        .params
-        .string("lightsampler", default)?
-        .as_str()
-    {
+    let light_sampler = match kind.as_str() {
         "uniform" => LightSampler::uniform(lights.len()),
         "power" => LightSampler::power(lights, shapes),
         "bvh" => LightSampler::bvh(lights, shapes),
@@ -1107,6 +1121,22 @@ fn integrator_settings(scene: &SceneDescription) -> Result<IntegratorSettings> {
             max_depth = p.int("maxdepth", 5)?;
             IntegratorKind::LightPath
         }
+        "bdpt" => {
+            max_depth = p.int("maxdepth", 5)?;
+            regularize = p.bool("regularize", false)?;
+            // Read as pbrt-v4 reads it, but its light paths (and light
+            // samples) always choose lights by power.
+            p.string("lightsampler", "power")?;
+            for name in ["visualizestrategies", "visualizeweights"] {
+                if p.bool(name, false)? {
+                    return scene_error(
+                        format!("\"{name}\" of integrator \"bdpt\" is not supported yet"),
+                        &e.location.0,
+                    );
+                }
+            }
+            IntegratorKind::Bdpt
+        }
         "simplepath" => {
             max_depth = p.int("maxdepth", 5)?;
             IntegratorKind::SimplePath(SimplePathSettings {
@@ -1118,7 +1148,7 @@ fn integrator_settings(scene: &SceneDescription) -> Result<IntegratorSettings> {
             return scene_error(
                 format!(
                     "integrator \"{other}\" is not supported yet (supported: path, volpath, \
-                     simplepath, randomwalk, ambientocclusion, lightpath)"
+                     simplepath, randomwalk, ambientocclusion, lightpath, bdpt)"
                 ),
                 &e.location.0,
             )
