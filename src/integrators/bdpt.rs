@@ -73,12 +73,9 @@ impl Vertex {
 
     fn is_delta_light(&self, scene: &BuiltScene) -> bool {
         self.kind == VertexKind::Light
-            && self.light.is_some_and(|l| {
-                matches!(
-                    scene.lights[l].kind(),
-                    LightKind::DeltaPosition | LightKind::DeltaDirection
-                )
-            })
+            && self
+                .light
+                .is_some_and(|l| scene.lights[l].sampled_only())
     }
 
     fn connectible(&self, scene: &BuiltScene) -> bool {

@@ -18,7 +18,7 @@ pub fn emitted(
     lambda: &SampledWavelengths,
 ) -> SampledSpectrum {
     match prim.area_light.map(|i| &scene.lights[i as usize]) {
-        Some(Light::DiffuseArea(area)) => area.l(si.n, si.wo, lambda),
+        Some(Light::DiffuseArea(area)) => area.l(si.p, si.n, si.uv, si.wo, lambda),
         _ => SampledSpectrum::ZERO,
     }
 }

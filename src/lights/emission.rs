@@ -22,6 +22,8 @@ pub struct LightLeSample {
     pub p: Vec3,
     pub p_error: Vec3,
     pub n: Vec3,
+    /// The surface coordinates of `p` (zero for a point light).
+    pub uv: Vec2,
     /// Unit direction leaving the light.
     pub dir: Vec3,
     /// Density of `p` per area (1 for a point light's one point).
@@ -73,6 +75,7 @@ impl PointLight {
             p: self.position,
             p_error: Vec3::ZERO,
             n: Vec3::ZERO,
+            uv: Vec2::ZERO,
             dir: sample_uniform_sphere(u),
             pdf_pos: 1.0,
             pdf_dir: UNIFORM_SPHERE_PDF,
@@ -111,10 +114,11 @@ impl DiffuseAreaLight {
         }
         let dir = Frame::from_z(ss.n).from_local(local);
         Some(LightLeSample {
-            l: self.l(ss.n, dir, lambda),
+            l: self.l(ss.p, ss.n, ss.uv, dir, lambda),
             p: ss.p,
             p_error: ss.p_error,
             n: ss.n,
+            uv: ss.uv,
             dir,
             pdf_pos: ss.pdf,
             pdf_dir,
