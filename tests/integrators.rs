@@ -311,3 +311,30 @@ fn unsupported_integrators_are_located_errors() {
         std::fs::remove_dir_all(&dir).ok();
     }
 }
+
+/// bdpt in a scene with media: pbrt-v4's bdpt scatters in them and rpbrt's
+/// does not yet, so a located error rather than a different image.
+#[test]
+fn bdpt_with_media_is_a_located_error() {
+    let dir = common::fresh_dir("integrators", "bdpt-media");
+    let path = dir.join("scene.pbrt");
+    let text = format!(
+        "MakeNamedMedium \"fog\" \"string type\" \"homogeneous\"\nMediumInterface \"\" \"fog\"\n{}",
+        furnace("\"bdpt\"")
+    );
+    std::fs::write(&path, text).unwrap();
+    let overrides = rpbrt::scene::build::RenderOverrides {
+        outfile: Some(dir.join("out.exr")),
+        ..Default::default()
+    };
+    let Err(e) = rpbrt::pipeline::render_file(&path, &overrides, 1, false) else {
+        panic!("bdpt rendered a scene with media");
+    };
+    let message = e.to_string();
+    assert!(
+        message.contains("\"bdpt\" with participating media is not supported yet")
+            && message.contains("scene.pbrt:7:1"),
+        "{message}"
+    );
+    std::fs::remove_dir_all(&dir).ok();
+}

@@ -72,10 +72,7 @@ impl Vertex {
     }
 
     fn is_delta_light(&self, scene: &BuiltScene) -> bool {
-        self.kind == VertexKind::Light
-            && self
-                .light
-                .is_some_and(|l| scene.lights[l].sampled_only())
+        self.kind == VertexKind::Light && self.light.is_some_and(|l| scene.lights[l].sampled_only())
     }
 
     fn connectible(&self, scene: &BuiltScene) -> bool {
@@ -189,7 +186,7 @@ impl Vertex {
         };
         let w = (towards.p() - self.p()).normalize_or_zero();
         match &scene.lights[l] {
-            Light::DiffuseArea(a) => a.l(self.si.n, w, lambda),
+            Light::DiffuseArea(a) => a.l(self.si.p, self.si.n, self.si.uv, w, lambda),
             _ => SampledSpectrum::ZERO,
         }
     }

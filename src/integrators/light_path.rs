@@ -80,7 +80,9 @@ pub fn trace_light_path(
     if les.n != Vec3::ZERO {
         if let Some(cs) = camera.sample_wi(les.p, sampler.get_2d(), bounds) {
             let le = match light {
-                crate::lights::Light::DiffuseArea(area) => area.l(les.p, les.n, les.uv, cs.wi, lambda),
+                crate::lights::Light::DiffuseArea(area) => {
+                    area.l(les.p, les.n, les.uv, cs.wi, lambda)
+                }
                 _ => SampledSpectrum::ZERO,
             };
             if le.is_nonzero() && cs.pdf > 0.0 {

@@ -466,7 +466,7 @@ pub fn build(mut description: SceneDescription, overrides: &RenderOverrides) -> 
             // silently different image.
             IntegratorKind::Bdpt => {
                 return scene_error(
-                    "integrator \"bdpt\" with participating media is not supported yet; use \"volpath\"".into(),
+                    "integrator \"bdpt\" with participating media is not supported yet; use \"volpath\"".to_string(),
                     &e.location.0,
                 )
             }
