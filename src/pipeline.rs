@@ -44,6 +44,14 @@ pub struct RenderReport {
     pub warnings: Vec<String>,
 }
 
+/// A thread pool the system would not give (threads it could not start).
+fn thread_pool_error(e: rayon::ThreadPoolBuildError) -> Error {
+    Error::Io {
+        path: "<thread pool>".into(),
+        source: std::io::Error::other(e),
+    }
+}
+
 /// Renders `path` with `threads` threads and writes the image.
 pub fn render_file(
     path: &Path,
@@ -58,10 +66,18 @@ pub fn render_file(
     std::thread::spawn(|| {
         crate::spectrum::color_space::get(ColorSpaceName::Srgb).rgb_to_spectrum_table();
     });
-    let loaded = crate::scene::load(path)?;
+    // `--nthreads` bounds the whole run, as pbrt-v4's does: parsing and
+    // the build's parallel phases use the same number of threads as the
+    // render, not every core of the machine.
+    let pool = rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .map_err(thread_pool_error)?;
+    let loaded = pool.install(|| crate::scene::load(path))?;
     let parse = start.elapsed();
     let options = loaded.scene.options.clone();
-    let built = build(loaded.scene, overrides)?;
+    let built = pool.install(|| build(loaded.scene, overrides))?;
+    drop(pool);
     let mut warnings: Vec<String> = loaded.warnings.iter().map(|w| w.to_string()).collect();
     warnings.extend(built.warnings.iter().map(|w| w.to_string()));
     check_window(&built.film, overrides, &mut warnings)?;
@@ -152,10 +168,7 @@ pub fn render_file(
             film.add_sample(acc, l, &lambda, sample.filter_weight);
         },
     )
-    .map_err(|e| Error::Io {
-        path: "<thread pool>".into(),
-        source: std::io::Error::other(e),
-    })?;
+    .map_err(thread_pool_error)?;
 
     let (lo, hi) = film.pixel_bounds;
     let (w, h) = ((hi.x - lo.x) as u32, (hi.y - lo.y) as u32);
