@@ -1,19 +1,74 @@
-//! Handing freed memory back to the operating system while a scene is
-//! built.
+//! The process's memory: its peak as the operating system counts it, and
+//! handing freed memory back while a scene is built.
 //!
 //! glibc's allocator keeps what a program frees for later allocations: the
 //! many small blocks of a scene description, or the runs' shape storage
 //! once appended, stay resident after they are freed, and the next phase's
 //! large arrays (mapped afresh) add to them. Trimming after a phase frees
 //! makes the process's peak the larger of its phases', not their sum.
+//!
+//! With the environment variable `RPBRT_MEMORY_PHASES` set, each phase's
+//! end prints the peak resident memory during the phase and what stays
+//! resident after the trim (the figures of docs/performance-notes.md,
+//! "Memory at scale"); the peak is then reset for the next phase, so
+//! `--stats`'s peak is the last phase's.
 
 /// Returns freed heap memory to the operating system (glibc's
-/// `malloc_trim`; nothing elsewhere).
-pub fn return_freed_memory() {
+/// `malloc_trim`; nothing elsewhere) at the end of the build phase named
+/// `phase`.
+pub fn return_freed_memory(phase: &str) {
+    let trace = std::env::var_os("RPBRT_MEMORY_PHASES").is_some();
+    let peak = if trace { peak_memory_bytes() } else { None };
     #[cfg(all(target_os = "linux", target_env = "gnu"))]
     // SAFETY: malloc_trim only releases free pages of the allocator's own
     // heaps; it has no preconditions.
     unsafe {
         libc::malloc_trim(0);
+    }
+    if trace {
+        let mb = |b: Option<u64>| b.map_or("?".into(), |b| (b >> 20).to_string());
+        eprintln!(
+            "memory: {phase}: peak {} MB, then {} MB",
+            mb(peak),
+            mb(status_bytes("VmRSS:"))
+        );
+        // Linux: writing 5 resets the high-water mark to the current size.
+        let _ = std::fs::write("/proc/self/clear_refs", "5");
+    }
+}
+
+/// Peak resident set size ("high water mark") of this process in bytes,
+/// from `/proc/self/status` (Linux); `None` where that is unavailable.
+pub fn peak_memory_bytes() -> Option<u64> {
+    status_bytes("VmHWM:")
+}
+
+/// A `/proc/self/status` line such as `VmRSS:   1234 kB`, in bytes.
+fn status_bytes(key: &str) -> Option<u64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    parse_status_bytes(&status, key)
+}
+
+fn parse_status_bytes(status: &str, key: &str) -> Option<u64> {
+    let line = status.lines().find(|l| l.starts_with(key))?;
+    let mut fields = line[key.len()..].split_whitespace();
+    let value: u64 = fields.next()?.parse().ok()?;
+    match fields.next() {
+        Some("kB") => Some(value * 1024),
+        _ => None,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn reads_the_high_water_mark_and_the_resident_size() {
+        let status = "Name:\trpbrt\nVmPeak:\t  99 kB\nVmHWM:\t   2048 kB\nVmRSS:\t 1 kB\n";
+        assert_eq!(
+            super::parse_status_bytes(status, "VmHWM:"),
+            Some(2048 * 1024)
+        );
+        assert_eq!(super::parse_status_bytes(status, "VmRSS:"), Some(1024));
+        assert_eq!(super::parse_status_bytes("Name: x\n", "VmHWM:"), None);
     }
 }

@@ -75,6 +75,7 @@ pub fn render_file(
         .map_err(thread_pool_error)?;
     let loaded = pool.install(|| crate::scene::load(path))?;
     let parse = start.elapsed();
+    crate::memory::return_freed_memory("parse");
     let options = loaded.scene.options.clone();
     let built = pool.install(|| build(loaded.scene, overrides))?;
     drop(pool);

@@ -264,7 +264,7 @@ fn random_walk(
             si,
             ns: si.shading.n,
             bsdf: Some(bsdf),
-            light: prim.area_light.map(|l| l as usize),
+            light: prim.area_light().map(|l| l as usize),
             delta: false,
             pdf_fwd: 0.0,
             pdf_rev: 0.0,

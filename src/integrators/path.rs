@@ -113,7 +113,7 @@ pub fn path_li(
         };
         si.wo = -ray.direction.normalize();
         // Emission of an area light that was hit.
-        if let Some(light_index) = prim.area_light {
+        if let Some(light_index) = prim.area_light() {
             if let Light::DiffuseArea(area) = &scene.lights[light_index as usize] {
                 let le = area.l(si.p, si.n, si.uv, si.wo, lambda);
                 if le.is_nonzero() && skip_emission {

@@ -17,7 +17,7 @@ pub fn emitted(
     si: &SurfaceInteraction,
     lambda: &SampledWavelengths,
 ) -> SampledSpectrum {
-    match prim.area_light.map(|i| &scene.lights[i as usize]) {
+    match prim.area_light().map(|i| &scene.lights[i as usize]) {
         Some(Light::DiffuseArea(area)) => area.l(si.p, si.n, si.uv, si.wo, lambda),
         _ => SampledSpectrum::ZERO,
     }

@@ -61,7 +61,7 @@ enum Vertex<'a> {
 /// direction `w` is in: the surface's interface decides, else the ray
 /// keeps `current`.
 fn medium_after(prim: &Primitive, w: Vec3, n: Vec3, current: Option<u16>) -> Option<u16> {
-    prim.medium_interface
+    prim.medium_interface()
         .map_or(current, |interface| interface.towards(w, n))
 }
 
@@ -237,7 +237,7 @@ pub fn volpath_li(
             break;
         };
         si.wo = -ray.direction.normalize();
-        if let Some(light_index) = prim.area_light {
+        if let Some(light_index) = prim.area_light() {
             if let Light::DiffuseArea(area) = &scene.lights[light_index as usize] {
                 let le = area.l(si.p, si.n, si.uv, si.wo, lambda);
                 if le.is_nonzero() {

@@ -15,7 +15,7 @@ use crate::interaction::SurfaceInteraction;
 use crate::lights::{self, Light, LightSampler};
 use crate::materials::Material;
 use crate::math::{offset_ray_origin, Bounds3, Ray};
-use crate::media::{Medium, MediumInterface};
+use crate::media::Medium;
 use crate::samplers::Sampler;
 use crate::scene_description::{Entity, SceneDescription, TextureValue};
 use crate::shapes::curve::CurvePiece;
@@ -98,19 +98,7 @@ pub struct IntegratorSettings {
     pub connect_diffraction: bool,
 }
 
-/// A shape with its material and emission.
-#[derive(Clone, Debug)]
-pub struct Primitive {
-    pub shape: Shape,
-    /// Index into [`BuiltScene::materials`].
-    pub material: u32,
-    /// Index into [`BuiltScene::lights`] of its area light.
-    pub area_light: Option<u32>,
-    /// Index into [`BuiltScene::alpha_textures`] of its cutout, if any.
-    pub alpha: Option<u32>,
-    /// The media on its two sides, where they differ.
-    pub medium_interface: Option<MediumInterface>,
-}
+pub use super::primitive::Primitive;
 
 pub struct BuiltScene {
     pub camera: Camera,
@@ -179,7 +167,7 @@ impl BuiltScene {
                 return Some(hit.t);
             }
             let prim = &self.primitives[i];
-            if let Some(alpha) = prim.alpha {
+            if let Some(alpha) = prim.alpha() {
                 let (si, t) = self.intersect_cut_out(prim, alpha, ray, t_max)?;
                 best = Some(Best::Full(si, i));
                 return Some(t);
@@ -237,7 +225,7 @@ impl BuiltScene {
                 return piece.intersect_in(segment, frame, t_max).is_some();
             }
             let prim = &self.primitives[i];
-            match prim.alpha {
+            match prim.alpha() {
                 Some(alpha) => self.intersect_cut_out(prim, alpha, ray, t_max).is_some(),
                 None => prim.shape.intersect_p(&self.shapes, ray, t_max),
             }
@@ -437,9 +425,9 @@ pub fn build(mut description: SceneDescription, overrides: &RenderOverrides) -> 
     } = create_primitives_and_lights(plan.placements, plan.object_count, &context, &mut warnings)?;
     // What the shapes' runs and the bounds freed goes back before the
     // BVH's arrays come.
-    crate::memory::return_freed_memory();
+    crate::memory::return_freed_memory("shapes and primitives");
     let bounds = primitive_bounds(&primitives, &shapes, &placed_ends)?;
-    crate::memory::return_freed_memory();
+    crate::memory::return_freed_memory("bounds");
 
     let Aggregate {
         bvh,
@@ -457,7 +445,7 @@ pub fn build(mut description: SceneDescription, overrides: &RenderOverrides) -> 
     let (infinite_lights, light_sampler) =
         prepare_lights(scene, &mut lights, &shapes, &bvh, &instances)?;
     let has_media =
-        camera_medium.is_some() || primitives.iter().any(|p| p.medium_interface.is_some());
+        camera_medium.is_some() || primitives.iter().any(|p| p.medium_interface().is_some());
     if has_media {
         let e = &scene.integrator;
         match integrator.kind {
@@ -517,11 +505,11 @@ fn create_media<'s>(
     let mut media = Vec::new();
     let mut index = HashMap::new();
     for m in &scene.media {
-        if media.len() > u16::MAX as usize {
+        if media.len() >= super::primitive::VACUUM as usize {
             return scene_error(
                 format!(
                     "too many media: a scene may have at most {}",
-                    u16::MAX as usize + 1
+                    super::primitive::VACUUM
                 ),
                 &m.entity.location.0,
             );
@@ -797,13 +785,13 @@ fn create_primitives_and_lights<'s>(
                 if placed.invisible {
                     continue;
                 }
-                primitives.push(Primitive {
+                primitives.push(Primitive::new(
                     shape,
-                    material: placed.material,
+                    placed.material,
                     area_light,
                     alpha,
-                    medium_interface: placed.medium_interface,
-                });
+                    placed.medium_interface,
+                ));
             }
             group_ends[placed.group] = primitives.len();
             placed_ends.push((primitives.len(), placed.location));
@@ -881,7 +869,7 @@ fn create_aggregate(
     drop(boxes);
     // The builder's working arrays go back before the reordered copies
     // of the primitives and pieces are made.
-    crate::memory::return_freed_memory();
+    crate::memory::return_freed_memory("BVH");
     // The old order is freed (and handed back) before the pieces are put
     // in the new one.
     let mut primitives: Vec<Primitive> = order
@@ -889,8 +877,9 @@ fn create_aggregate(
         .map(|&i| unordered[i as usize].clone())
         .collect();
     drop((unordered, order));
-    crate::memory::return_freed_memory();
+    crate::memory::return_freed_memory("primitives in BVH order");
     let curve_lookup = order_curve_pieces(&mut primitives, shapes);
+    crate::memory::return_freed_memory("curve pieces in BVH order");
     let instances = if instance_transforms.is_empty() {
         InstanceAccel::empty()
     } else {
@@ -977,7 +966,7 @@ fn order_curve_pieces(primitives: &mut [Primitive], shapes: &mut ShapeStorage) -
     let created = std::mem::take(&mut shapes.curve_pieces);
     let pieces = &mut shapes.curve_pieces;
     let tested_as_curve =
-        |prim: &Primitive| prim.alpha.is_none() && matches!(prim.shape, Shape::Curve(_));
+        |prim: &Primitive| prim.alpha().is_none() && matches!(prim.shape, Shape::Curve(_));
     let tested = primitives.iter().filter(|p| tested_as_curve(p)).count();
     let by_primitive = primitives.len() - tested <= tested;
     let mut curve_of_primitive = Vec::new();
@@ -1017,7 +1006,8 @@ fn order_curve_pieces(primitives: &mut [Primitive], shapes: &mut ShapeStorage) -
         }
     }
     for prim in primitives.iter_mut() {
-        if let (Shape::Curve(c), Some(_)) = (&mut prim.shape, prim.alpha) {
+        let cut_out = prim.alpha().is_some();
+        if let (Shape::Curve(c), true) = (&mut prim.shape, cut_out) {
             pieces.push(created[*c as usize]);
             *c = pieces.len() as u32 - 1;
         }
@@ -1232,7 +1222,7 @@ mod tests {
             let brute = scene
                 .primitives
                 .iter()
-                .filter_map(|prim| match prim.alpha {
+                .filter_map(|prim| match prim.alpha() {
                     Some(alpha) => scene
                         .intersect_cut_out(prim, alpha, &ray, t_max)
                         .map(|(_, t)| t),

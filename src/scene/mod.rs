@@ -9,5 +9,6 @@ pub mod builder;
 pub mod deviations;
 pub mod instancing;
 pub mod placed_shapes;
+pub mod primitive;
 
 pub use builder::{describe, load, load_fragment, load_text, Loaded, SceneBuilder};

@@ -114,7 +114,7 @@ pub fn create<'s>(placements: Vec<ShapePlacement>, context: &Context<'s>) -> Vec
             // many: 230 MB of the 120 MB curve file's peak; nothing
             // measurable in the shared hair scenes.
             if many_placements {
-                crate::memory::return_freed_memory();
+                crate::memory::return_freed_memory("a run of shapes");
             }
             out
         })

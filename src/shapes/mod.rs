@@ -129,7 +129,7 @@ impl ShapeStorage {
             self.bilinear_meshes.extend(other.bilinear_meshes);
             self.curve_segments.extend(other.curve_segments);
             if k % 16 == 15 {
-                crate::memory::return_freed_memory();
+                crate::memory::return_freed_memory("append 16 runs");
             }
         }
         Ok(offsets)

@@ -15,7 +15,6 @@ pub mod imgdiff;
 pub mod imgtool;
 pub mod mie;
 pub mod mie_compare;
-pub mod peak_memory;
 pub mod plot;
 pub mod render_scene;
 pub mod reproduce;

@@ -128,7 +128,7 @@ pub fn run(cli: &RenderArgs) -> Result<(), Error> {
             report.bad_samples,
             report.half_clamped
         );
-        if let Some(bytes) = super::peak_memory::peak_memory_bytes() {
+        if let Some(bytes) = crate::memory::peak_memory_bytes() {
             println!("peak memory: {} MB", bytes / 1_000_000);
         }
     }
