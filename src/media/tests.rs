@@ -144,13 +144,13 @@ fn rgb_grid_and_cloud_stay_below_their_majorants() {
 }
 
 #[test]
-fn unknown_preset_and_nanovdb_are_located_errors() {
+fn unknown_preset_and_missing_nanovdb_file_are_located_errors() {
     let scene = describe(
         "MakeNamedMedium \"v\" \"string type\" \"nanovdb\" \"string filename\" \"x.nvdb\"",
     );
     let m = &scene.media[0];
     let e = Medium::create(&m.entity, &m.world_from_medium, Path::new(".")).unwrap_err();
-    assert!(e.to_string().contains("not supported yet"), "{e}");
+    assert!(e.to_string().contains("cannot read \"./x.nvdb\""), "{e}");
     assert!(e.to_string().contains("media.pbrt:2:"), "{e}");
     let scene =
         describe("MakeNamedMedium \"p\" \"string type\" \"homogeneous\" \"string preset\" \"Mud\"");
