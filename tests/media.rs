@@ -1,7 +1,7 @@
 //! Scenes with participating media, rendered whole: a scattering medium
 //! inside a white furnace, an absorbing ball seen against a white sky,
-//! determinism at any thread count, and located errors for what is not
-//! supported.
+//! determinism at any thread count, located errors for what is not
+//! supported, and the shared nanovdb scenes.
 
 mod common;
 
@@ -106,9 +106,10 @@ fn media_images_are_deterministic_across_thread_counts() {
     assert_eq!(a.rgb_data(), b.rgb_data());
 }
 
-/// A `nanovdb` medium stops the render with a located error.
+/// A `nanovdb` medium whose file is missing stops the render with a
+/// located `cannot read` error naming the file.
 #[test]
-fn nanovdb_is_a_located_not_supported_error() {
+fn nanovdb_without_its_file_is_a_located_cannot_read_error() {
     let dir = std::env::temp_dir().join(format!("rpbrt-test-media-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let path = dir.join("vdb.pbrt");
@@ -125,12 +126,60 @@ fn nanovdb_is_a_located_not_supported_error() {
     };
     let error = rpbrt::pipeline::render_file(&path, &overrides, 1, false)
         .err()
-        .expect("a nanovdb medium must be refused")
+        .expect("a nanovdb medium without its file must be refused")
         .to_string();
-    assert!(error.contains("vdb.pbrt:8:1"), "{error}");
+    assert!(error.contains("vdb.pbrt:8:"), "{error}");
     assert!(
-        error.contains("\"nanovdb\" is not supported yet"),
+        error.contains("cannot read") && error.contains("cloud.nvdb"),
         "{error}"
     );
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+/// The Houdini exporter's nanovdb scene (a ZIP-compressed density sphere)
+/// renders, its middle not black and free of NaN; its `test_vdb*` scenes
+/// with nanovdb media, whose `.nvdb` files the snapshot lacks, stop with a located `cannot
+/// read`. Skipped when `../shared` is absent.
+#[test]
+fn shared_nanovdb_scenes_render_or_name_their_missing_files() {
+    let Some(shared) = common::shared_dir() else {
+        return;
+    };
+    let tests = shared.join("scenes/houdini-pbrt-v4/tests/scenes");
+    let dir = std::env::temp_dir().join(format!("rpbrt-test-vdb-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let overrides = rpbrt::scene::build::RenderOverrides {
+        spp: Some(4),
+        seed: Some(1),
+        outfile: Some(dir.join("nanovdb.exr")),
+        crop_window: Some([0.4, 0.6, 0.4, 0.6]),
+        ..Default::default()
+    };
+    let scene = tests.join("TestMediums/test_interior_nanovdb.pbrt");
+    let report = rpbrt::pipeline::render_file(&scene, &overrides, 2, false).unwrap();
+    assert_eq!(report.bad_samples, 0);
+    let image = Image::read(dir.join("nanovdb.exr")).unwrap();
+    assert!(mean(&image) > 0.0);
+    let vdb: Vec<_> = common::scene_files(&tests.join("TestShapes"))
+        .into_iter()
+        .filter(|f| {
+            f.to_string_lossy().contains("test_vdb")
+                && std::fs::read_to_string(f).is_ok_and(|t| t.contains("\"nanovdb\""))
+        })
+        .collect();
+    assert!(vdb.len() >= 5, "{vdb:?}");
+    for file in &vdb {
+        let error = rpbrt::pipeline::render_file(file, &overrides, 2, false)
+            .err()
+            .unwrap_or_else(|| panic!("{} rendered", file.display()))
+            .to_string();
+        let name = file.file_name().unwrap().to_string_lossy().into_owned();
+        assert!(
+            error.contains(&format!("{name}:"))
+                && error.contains("cannot read")
+                && error.contains(".nvdb"),
+            "{error}"
+        );
+    }
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -666,4 +666,62 @@ mod tests {
             );
         }
     }
+
+    /// A NanoVDB file (in a fresh temporary directory) of one 8³ leaf of
+    /// density 1 whose world box, −3.5…3.5 × −3.5…3.5 × 1.5…8.5, holds
+    /// the unit sphere at z = 5.
+    fn constant_nvdb(tag: &str) -> std::path::PathBuf {
+        use crate::media::nanovdb_file::test_writer::{file_bytes, ramp};
+        let dir = std::env::temp_dir().join(format!("rpbrt-volpath-{tag}-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let mut spec = ramp("density", 0.0, |_, _, _| 1.0);
+        spec.translation = [-3.5, -3.5, 1.5];
+        spec.world_min = [-3.5, -3.5, 1.5];
+        spec.world_max = [3.5, 3.5, 8.5];
+        let path = dir.join("constant.nvdb");
+        std::fs::write(&path, file_bytes(&[spec], 1)).unwrap();
+        path
+    }
+
+    #[test]
+    fn nanovdb_of_constant_density_matches_the_homogeneous_medium() {
+        let path = constant_nvdb("absorber");
+        let scene = sphere_scene(
+            &format!("\"nanovdb\" \"string filename\" \"{}\" \"spectrum sigma_a\" [360 0.2 830 1.6] \"spectrum sigma_s\" [360 0 830 0]", path.display()),
+            true,
+        );
+        let le = light_radiance(&scene);
+        let l = mean_radiance(&scene, Vec3::Z, LAMBDAS, 20_000, le);
+        for (i, &lambda) in LAMBDAS.iter().enumerate() {
+            let expected = (-sigma_of(lambda) * 2.0).exp();
+            assert!(
+                (l[i] - expected).abs() < 0.01 + 0.02 * expected,
+                "λ {lambda}: {} vs {expected}",
+                l[i]
+            );
+        }
+        // Scattering: the same radiance as the homogeneous medium.
+        let coefficients = "\"spectrum sigma_a\" [360 0.3 830 0.1] \"spectrum sigma_s\" [360 0.5 830 2] \"float g\" 0.3";
+        let vdb = sphere_scene(
+            &format!(
+                "\"nanovdb\" \"string filename\" \"{}\" {coefficients}",
+                path.display()
+            ),
+            true,
+        );
+        let homogeneous = sphere_scene(&format!("\"homogeneous\" {coefficients}"), true);
+        let d = Vec3::new(0.1, 0.05, 1.0);
+        let a = mean_radiance(&vdb, d, LAMBDAS, 8_000, le);
+        let b = mean_radiance(&homogeneous, d, LAMBDAS, 8_000, le);
+        for i in 0..4 {
+            assert!(
+                (a[i] - b[i]).abs() < 0.03,
+                "λ {}: {} vs {}",
+                LAMBDAS[i],
+                a[i],
+                b[i]
+            );
+        }
+        std::fs::remove_dir_all(path.parent().unwrap()).ok();
+    }
 }

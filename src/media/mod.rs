@@ -25,7 +25,7 @@ mod cuboid;
 mod grid;
 mod homogeneous;
 mod nanovdb;
-mod nanovdb_file;
+pub(crate) mod nanovdb_file;
 mod presets;
 mod rgb_grid;
 mod sampled_grid;
