@@ -147,7 +147,6 @@ struct Internal {
 /// One float grid of a NanoVDB file, decoded.
 #[derive(Clone, Debug)]
 pub struct FloatGrid {
-    pub name: String,
     /// NanoVDB's grid class (2: fog volume, 0: unknown).
     pub class: u32,
     /// The world-space box of the active values, as stored.
@@ -525,7 +524,6 @@ fn parse_grid(data: &[u8], name: String) -> Result<FloatGrid, NvdbError> {
         })
         .collect::<Result<Vec<_>, NvdbError>>()?;
     Ok(FloatGrid {
-        name,
         class,
         world_min,
         world_max,
@@ -697,7 +695,6 @@ mod tests {
         spec.leaves.push(([0, 0, 8], vec![7.0; 512]));
         let file = file_bytes(&[spec], 0);
         let g = read_grid(&file, "density").unwrap().unwrap();
-        assert_eq!(g.name, "density");
         assert_eq!(g.class, 2);
         for &(i, j, k) in &[(0, 0, 0), (3, 5, 7), (7, 7, 7), (1, 0, 6)] {
             assert_eq!(g.value(i, j, k), linear(i, j, k));
