@@ -679,7 +679,7 @@ mod tests {
         spec.world_min = [-3.5, -3.5, 1.5];
         spec.world_max = [3.5, 3.5, 8.5];
         let path = dir.join("constant.nvdb");
-        std::fs::write(&path, file_bytes(&[spec], 1)).unwrap();
+        std::fs::write(&path, file_bytes(&[spec], 1, true)).unwrap();
         path
     }
 

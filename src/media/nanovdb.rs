@@ -25,8 +25,9 @@
 //! One majorant covers the box (the largest density value in the grid
 //! times σt), where pbrt-v4 builds a 64³ majorant grid: unbiased either
 //! way, only the number of null collisions differs. The file reader is
-//! [`super::nanovdb_file`] (the pre-29 NanoVDB layout; pbrt-v4 reads only
-//! files of its own NanoVDB, 32.x).
+//! [`super::nanovdb_file`]: NanoVDB 32.x files, as pbrt-v4 reads, and
+//! also those of the layout before NanoVDB 29 (0.0.x), which pbrt-v4
+//! refuses; codecs NONE and ZIP (BLOSC is an error).
 
 use super::cuboid::Cuboid;
 use super::nanovdb_file::{grid_class_name, read_grid, FloatGrid};
@@ -221,7 +222,7 @@ mod tests {
         let linear = |i: i32, j: i32, k: i32| 0.1 * (i + j + k) as f32;
         std::fs::write(
             dir.join("ramp.nvdb"),
-            file_bytes(&[ramp("density", 0.0, linear)], 1),
+            file_bytes(&[ramp("density", 0.0, linear)], 1, true),
         )
         .unwrap();
         let m = medium(
@@ -269,7 +270,7 @@ mod tests {
                 |i, _, _| if i < 4 { 1000.0 } else { 50.0 },
             ),
         ];
-        std::fs::write(dir.join("fire.nvdb"), file_bytes(&grids, 0)).unwrap();
+        std::fs::write(dir.join("fire.nvdb"), file_bytes(&grids, 0, true)).unwrap();
         let m = medium(
             &dir,
             "\"string filename\" \"fire.nvdb\" \"float Lescale\" 2 \"float temperaturecutoff\" 100 \"float temperaturescale\" 3",
@@ -322,7 +323,7 @@ mod tests {
         // No density grid.
         std::fs::write(
             dir.join("t.nvdb"),
-            file_bytes(&[ramp("temperature", 0.0, |_, _, _| 1.0)], 0),
+            file_bytes(&[ramp("temperature", 0.0, |_, _, _| 1.0)], 0, false),
         )
         .unwrap();
         let e = error("\"string filename\" \"t.nvdb\"");
@@ -333,11 +334,11 @@ mod tests {
         // A level set.
         let mut spec = ramp("density", 0.0, |_, _, _| 1.0);
         spec.class = 1;
-        std::fs::write(dir.join("ls.nvdb"), file_bytes(&[spec], 0)).unwrap();
+        std::fs::write(dir.join("ls.nvdb"), file_bytes(&[spec], 0, true)).unwrap();
         let e = error("\"string filename\" \"ls.nvdb\"");
         assert!(e.contains("LevelSet"), "{e}");
         // Truncated.
-        let full = file_bytes(&[ramp("density", 0.0, |_, _, _| 1.0)], 1);
+        let full = file_bytes(&[ramp("density", 0.0, |_, _, _| 1.0)], 1, false);
         std::fs::write(dir.join("cut.nvdb"), &full[..full.len() - 100]).unwrap();
         let e = error("\"string filename\" \"cut.nvdb\"");
         assert!(e.contains("ends early") && e.contains("cut.nvdb"), "{e}");
