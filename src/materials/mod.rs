@@ -336,12 +336,18 @@ impl Material {
         )?
         .is_some()
         {
-            return scene_error("material \"displacement\" is not supported yet", loc);
+            return scene_error(
+                "a material's \"displacement\" texture (bump mapping) is not supported yet",
+                loc,
+            );
         }
         if p.find("normalmap", &[pbrt_parser::ParamType::String])?
             .is_some()
         {
-            return scene_error("material \"normalmap\" is not supported yet", loc);
+            return scene_error(
+                "a material's \"normalmap\" (normal mapping) is not supported yet",
+                loc,
+            );
         }
         p.string("type", "")?;
         let m = match entity.kind.as_str() {
