@@ -104,11 +104,8 @@ impl CloudMedium {
         t_max: f32,
         lambda: &SampledWavelengths,
     ) -> Option<MajorantSegment> {
-        let (t_min, t_max) = self.cuboid.clip(ray, t_max)?;
-        Some(MajorantSegment {
-            t_min,
-            t_max,
-            sigma_maj: (self.sigma_a.sample(lambda) + self.sigma_s.sample(lambda)) * self.scale,
+        self.cuboid.majorant(ray, t_max, || {
+            (self.sigma_a.sample(lambda) + self.sigma_s.sample(lambda)) * self.scale
         })
     }
 }

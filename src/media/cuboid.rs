@@ -1,7 +1,9 @@
 //! The box that bounds a grid or procedural medium: `p0`–`p1` in the
 //! medium's space, placed in render space by the medium's transform.
 
+use super::MajorantSegment;
 use crate::math::{Ray, Transform};
+use crate::spectrum::SampledSpectrum;
 use glam::{DVec3, Mat4, Vec3};
 
 #[derive(Clone, Debug)]
@@ -18,6 +20,23 @@ impl Cuboid {
             min: p0.min(p1).as_vec3(),
             max: p0.max(p1).as_vec3(),
         }
+    }
+
+    /// The majorant segment of a medium filling this box: the stretch of
+    /// `ray` inside it (as [`Cuboid::clip`]), with the bound `sigma_maj`
+    /// on σt there (evaluated only where the ray meets the box).
+    pub fn majorant(
+        &self,
+        ray: &Ray,
+        t_max: f32,
+        sigma_maj: impl FnOnce() -> SampledSpectrum,
+    ) -> Option<MajorantSegment> {
+        let (t_min, t_max) = self.clip(ray, t_max)?;
+        Some(MajorantSegment {
+            t_min,
+            t_max,
+            sigma_maj: sigma_maj(),
+        })
     }
 
     /// The stretch of `ray` (render space) inside the box, clipped to

@@ -223,12 +223,9 @@ impl GridMedium {
         t_max: f32,
         lambda: &SampledWavelengths,
     ) -> Option<MajorantSegment> {
-        let (t_min, t_max) = self.cuboid.clip(ray, t_max)?;
-        let sigma_t = self.sigma_a.sample(lambda) + self.sigma_s.sample(lambda);
-        Some(MajorantSegment {
-            t_min,
-            t_max,
-            sigma_maj: sigma_t * (self.scale * self.max_density),
+        self.cuboid.majorant(ray, t_max, || {
+            let sigma_t = self.sigma_a.sample(lambda) + self.sigma_s.sample(lambda);
+            sigma_t * (self.scale * self.max_density)
         })
     }
 }

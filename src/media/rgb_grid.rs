@@ -149,11 +149,8 @@ impl RgbGridMedium {
         t_max: f32,
         _lambda: &SampledWavelengths,
     ) -> Option<MajorantSegment> {
-        let (t_min, t_max) = self.cuboid.clip(ray, t_max)?;
-        Some(MajorantSegment {
-            t_min,
-            t_max,
-            sigma_maj: SampledSpectrum::splat(self.max_sigma_t * self.scale),
+        self.cuboid.majorant(ray, t_max, || {
+            SampledSpectrum::splat(self.max_sigma_t * self.scale)
         })
     }
 }
