@@ -17,18 +17,15 @@
 
 use super::cuboid::Cuboid;
 use super::sampled_grid::SampledGrid;
-use super::{scattering_coefficients, MajorantSegment, MediumProperties};
+use super::{blackbody_glow, scattering_coefficients, MajorantSegment, MediumProperties};
 use crate::error::{scene_error, Result};
 use crate::math::{Ray, Transform};
 use crate::scene_description::Entity;
 use crate::spectrum::color_space::SpectrumKind;
 use crate::spectrum::parameter::spectrum_param;
-use crate::spectrum::{BlackbodySpectrum, SampledSpectrum, SampledWavelengths, Spectrum};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use glam::{DVec3, Vec3};
 use std::path::Path;
-
-/// Below this many kelvin a blackbody's visible emission is negligible.
-const MIN_GLOW_KELVIN: f32 = 100.0;
 
 #[derive(Clone, Debug)]
 pub struct GridMedium {
@@ -199,8 +196,8 @@ impl GridMedium {
                             cutoff,
                         } => {
                             let t = (grid.lookup(u, |v| v) - offset) * scale;
-                            if t > *cutoff && t > MIN_GLOW_KELVIN {
-                                BlackbodySpectrum::new(t).sample(lambda) * s
+                            if t > *cutoff {
+                                blackbody_glow(t, s, lambda)
                             } else {
                                 SampledSpectrum::ZERO
                             }

@@ -42,7 +42,7 @@ use crate::math::{Ray, Transform};
 use crate::scene_description::Entity;
 use crate::spectrum::color_space::SpectrumKind;
 use crate::spectrum::parameter::spectrum_param;
-use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
+use crate::spectrum::{BlackbodySpectrum, SampledSpectrum, SampledWavelengths, Spectrum};
 use glam::Vec3;
 use std::path::Path;
 
@@ -156,6 +156,20 @@ impl Medium {
             Medium::Cloud(m) => m.majorant(ray, t_max, lambda),
             Medium::NanoVdb(m) => m.majorant(ray, t_max, lambda),
         }
+    }
+}
+
+/// Below this many kelvin a blackbody's visible emission is negligible and
+/// pbrt-v4's grid and nanovdb media emit nothing.
+const MIN_GLOW_KELVIN: f32 = 100.0;
+
+/// A medium's blackbody emission at `kelvin` times `scale` (nothing at or
+/// below [`MIN_GLOW_KELVIN`]).
+fn blackbody_glow(kelvin: f32, scale: f32, lambda: &SampledWavelengths) -> SampledSpectrum {
+    if kelvin > MIN_GLOW_KELVIN {
+        BlackbodySpectrum::new(kelvin).sample(lambda) * scale
+    } else {
+        SampledSpectrum::ZERO
     }
 }
 

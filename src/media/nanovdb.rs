@@ -31,18 +31,15 @@
 
 use super::cuboid::Cuboid;
 use super::nanovdb_file::{grid_class_name, read_grid, FloatGrid};
-use super::{scattering_coefficients, MajorantSegment, MediumProperties};
+use super::{blackbody_glow, scattering_coefficients, MajorantSegment, MediumProperties};
 use crate::error::{scene_error, unreadable_file, Result};
 use crate::math::{Ray, Transform};
 use crate::scene_description::Entity;
-use crate::spectrum::{BlackbodySpectrum, SampledSpectrum, SampledWavelengths, Spectrum};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
 use glam::{DVec3, Vec3};
 use pbrt_parser::Location;
 use std::path::Path;
 use std::sync::Arc;
-
-/// At or below this many kelvin pbrt-v4's nanovdb medium does not emit.
-const MIN_GLOW_KELVIN: f32 = 100.0;
 
 #[derive(Clone, Debug)]
 pub struct NanoVdbMedium {
@@ -155,11 +152,7 @@ impl NanoVdbMedium {
             None => SampledSpectrum::ZERO,
             Some(t) => {
                 let kelvin = (t.grid.sample(q) - t.offset) * t.scale;
-                if kelvin > MIN_GLOW_KELVIN {
-                    BlackbodySpectrum::new(kelvin).sample(lambda) * t.le_scale
-                } else {
-                    SampledSpectrum::ZERO
-                }
+                blackbody_glow(kelvin, t.le_scale, lambda)
             }
         };
         MediumProperties {
@@ -188,7 +181,7 @@ mod tests {
     use super::super::nanovdb_file::test_writer::{file_bytes, ramp};
     use super::super::Medium;
     use super::*;
-    use crate::spectrum::SampledWavelengths;
+    use crate::spectrum::{BlackbodySpectrum, SampledWavelengths};
 
     /// A fresh directory for this test's files.
     fn temp_dir(tag: &str) -> std::path::PathBuf {
