@@ -577,6 +577,19 @@ mod tests {
 
     const LAMBDAS: [f32; 4] = [420.0, 500.0, 610.0, 700.0];
 
+    /// Each of [`LAMBDAS`]' radiances in `l` within 0.01 + 2 % of
+    /// `expected(λ)`.
+    fn assert_per_wavelength(l: [f32; 4], expected: impl Fn(f32) -> f32, what: &str) {
+        for (i, &lambda) in LAMBDAS.iter().enumerate() {
+            let expected = expected(lambda);
+            assert!(
+                (l[i] - expected).abs() < 0.01 + 0.02 * expected,
+                "λ {lambda}: {} vs {what} {expected}",
+                l[i]
+            );
+        }
+    }
+
     /// σa(λ) of `"spectrum sigma_a" [360 0.2 830 1.6]`.
     fn sigma_of(lambda: f32) -> f32 {
         0.2 + (lambda - 360.0) / 470.0 * 1.4
@@ -591,14 +604,7 @@ mod tests {
         let le = light_radiance(&scene);
         // Through the centre: d = 2.
         let l = mean_radiance(&scene, Vec3::Z, LAMBDAS, 40_000, le);
-        for (i, &lambda) in LAMBDAS.iter().enumerate() {
-            let expected = (-sigma_of(lambda) * 2.0).exp();
-            assert!(
-                (l[i] - expected).abs() < 0.01 + 0.02 * expected,
-                "λ {lambda}: {} vs exp(−σ(λ) d) {expected}",
-                l[i]
-            );
-        }
+        assert_per_wavelength(l, |lambda| (-sigma_of(lambda) * 2.0).exp(), "exp(−σ(λ) d)");
     }
 
     #[test]
@@ -635,14 +641,11 @@ mod tests {
             )
             .le[0];
         let l = mean_radiance(&scene, Vec3::Z, LAMBDAS, 20_000, le);
-        for (i, &lambda) in LAMBDAS.iter().enumerate() {
-            let expected = 1.0 - (-sigma_of(lambda) * 2.0).exp();
-            assert!(
-                (l[i] - expected).abs() < 0.01 + 0.02 * expected,
-                "λ {lambda}: {} vs 1 − exp(−σ(λ) d) {expected}",
-                l[i]
-            );
-        }
+        assert_per_wavelength(
+            l,
+            |lambda| 1.0 - (-sigma_of(lambda) * 2.0).exp(),
+            "1 − exp(−σ(λ) d)",
+        );
     }
 
     #[test]
@@ -657,14 +660,7 @@ mod tests {
         );
         let le = light_radiance(&scene);
         let l = mean_radiance(&scene, Vec3::Z, LAMBDAS, 20_000, le);
-        for (i, &lambda) in LAMBDAS.iter().enumerate() {
-            let expected = (-sigma_of(lambda) * 2.0).exp();
-            assert!(
-                (l[i] - expected).abs() < 0.01 + 0.02 * expected,
-                "λ {lambda}: {} vs {expected}",
-                l[i]
-            );
-        }
+        assert_per_wavelength(l, |lambda| (-sigma_of(lambda) * 2.0).exp(), "exp(−σ(λ) d)");
     }
 
     /// A NanoVDB file (in a fresh temporary directory) of one 8³ leaf of
@@ -692,14 +688,7 @@ mod tests {
         );
         let le = light_radiance(&scene);
         let l = mean_radiance(&scene, Vec3::Z, LAMBDAS, 20_000, le);
-        for (i, &lambda) in LAMBDAS.iter().enumerate() {
-            let expected = (-sigma_of(lambda) * 2.0).exp();
-            assert!(
-                (l[i] - expected).abs() < 0.01 + 0.02 * expected,
-                "λ {lambda}: {} vs {expected}",
-                l[i]
-            );
-        }
+        assert_per_wavelength(l, |lambda| (-sigma_of(lambda) * 2.0).exp(), "exp(−σ(λ) d)");
         // Scattering: the same radiance as the homogeneous medium.
         let coefficients = "\"spectrum sigma_a\" [360 0.3 830 0.1] \"spectrum sigma_s\" [360 0.5 830 2] \"float g\" 0.3";
         let vdb = sphere_scene(
