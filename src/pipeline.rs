@@ -93,6 +93,7 @@ pub fn render_file(
         !options.disable_pixel_jitter,
     );
     let uses_lens = built.camera.uses_lens();
+    let has_motion = built.has_motion();
     // Light tracing deposits its light on the film anywhere (splats); the
     // other integrators add one sample to their own pixel.
     let splats = matches!(
@@ -132,10 +133,15 @@ pub fn render_file(
                 };
             }
             // pbrt-v4 takes a time and a lens point for every camera ray.
-            // Without motion (unsupported) the time changes nothing, and
-            // without a lens neither does the lens point: their dimensions
-            // are skipped, not computed, so later ones stay pbrt-v4's.
-            sampler.skip(1);
+            // Without motion the time changes nothing, and without a lens
+            // neither does the lens point: their dimensions are skipped,
+            // not computed, so later ones stay pbrt-v4's.
+            let time = if has_motion {
+                sampler.get_1d()
+            } else {
+                sampler.skip(1);
+                0.5
+            };
             let p_lens = if uses_lens {
                 sampler.get_2d()
             } else {
@@ -144,7 +150,7 @@ pub fn render_file(
             };
             let sample = CameraSample {
                 p_film: pixel.as_vec2() + Vec2::splat(0.5) + fs.p,
-                time: 0.5,
+                time,
                 p_lens,
                 filter_weight: fs.weight,
             };

@@ -10,6 +10,11 @@
 //! point with its error bound, normals by the inverse transpose, as
 //! pbrt-v4's `Transform::operator()(SurfaceInteraction)`.
 //!
+//! An instance may move during the shutter interval (pbrt-v4's
+//! `AnimatedPrimitive`): its render-from-instance is then interpolated
+//! at each ray's time, and its box in the top-level BVH holds the whole
+//! motion.
+//!
 //! The objects' primitives live in the scene's one primitive array; an
 //! object's BVH reports indices into it (see [`Bvh::build_from`]). No heap
 //! hop and no trait object per ray: an instance is a transform and an
@@ -18,17 +23,36 @@
 use super::bvh::BuildBox;
 use super::Bvh;
 use crate::interaction::SurfaceInteraction;
-use crate::math::{Bounds3, Ray, Transform};
+use crate::math::{Bounds3, MotionTransform, Ray};
 use crate::shapes::object_transform::{transform_point_with_error, ObjectTransform};
 use std::ops::Range;
 
-/// One use of an object (`ObjectInstance`).
+/// One use of an object (`ObjectInstance`, or a moving shape).
 #[derive(Clone, Debug)]
 pub struct Instance {
     /// Index into the objects' BVHs.
     pub object: u32,
+    pub placement: Placement,
+}
+
+/// Where an instance is.
+#[derive(Clone, Debug)]
+pub enum Placement {
     /// render-from-instance and its inverse (f32).
-    pub transform: ObjectTransform,
+    Fixed(ObjectTransform),
+    /// render-from-instance over the shutter interval.
+    Moving(Box<MotionTransform>),
+}
+
+impl Instance {
+    /// `f` with render-from-instance at `time`.
+    #[inline]
+    fn with_transform_at<R>(&self, time: f32, f: impl FnOnce(&ObjectTransform) -> R) -> R {
+        match &self.placement {
+            Placement::Fixed(transform) => f(transform),
+            Placement::Moving(motion) => f(&ObjectTransform::new(&motion.at(time))),
+        }
+    }
 }
 
 /// The instances of a scene: the objects' BVHs and the top-level BVH over
@@ -71,21 +95,22 @@ impl InstanceAccel {
 
     /// `objects`: each object's BVH (reporting indices into the scene's
     /// primitive array); `instances`: (object, render-from-instance).
-    pub fn build(objects: Vec<Bvh>, instances: &[(u32, Transform)]) -> Self {
+    pub fn build(objects: Vec<Bvh>, instances: &[(u32, MotionTransform)]) -> Self {
         let placed: Vec<Instance> = instances
             .iter()
-            .map(|(object, t)| Instance {
+            .map(|(object, motion)| Instance {
                 object: *object,
-                transform: ObjectTransform::new(t),
+                placement: if motion.is_animated() {
+                    Placement::Moving(Box::new(*motion))
+                } else {
+                    Placement::Fixed(ObjectTransform::new(motion.start()))
+                },
             })
             .collect();
         let bounds: Vec<Bounds3> = placed
             .iter()
-            .map(|i| {
-                objects[i.object as usize]
-                    .bounds()
-                    .transformed(&i.transform.render_from_object)
-            })
+            .zip(instances)
+            .map(|(i, (_, motion))| motion.motion_bounds(objects[i.object as usize].bounds()))
             .collect();
         let (top, order) = Bvh::build(&bounds);
         let instances = order.iter().map(|&i| placed[i as usize].clone()).collect();
@@ -102,6 +127,13 @@ impl InstanceAccel {
 
     pub fn is_empty(&self) -> bool {
         self.instances.is_empty()
+    }
+
+    /// Whether any instance moves (motion blur).
+    pub fn has_motion(&self) -> bool {
+        self.instances
+            .iter()
+            .any(|i| matches!(i.placement, Placement::Moving(_)))
     }
 
     /// Render-space bounds of all instances.
@@ -121,13 +153,17 @@ impl InstanceAccel {
         let mut best: Option<(SurfaceInteraction, usize)> = None;
         self.top.closest_hit(ray, t_max, |i, t_max| {
             let instance = &self.instances[i];
-            let (local, dt) = ray_to_instance(&instance.transform, ray);
-            let local_t_max = t_max - dt;
-            if local_t_max <= 0.0 {
-                return None;
-            }
-            let mut si = intersect(&self.objects[instance.object as usize], &local, local_t_max)?;
-            si.t += dt;
+            let si = instance.with_transform_at(ray.time, |transform| {
+                let (local, dt) = ray_to_instance(transform, ray);
+                let local_t_max = t_max - dt;
+                if local_t_max <= 0.0 {
+                    return None;
+                }
+                let mut si =
+                    intersect(&self.objects[instance.object as usize], &local, local_t_max)?;
+                si.t += dt;
+                Some(si)
+            })?;
             // (Rounding of t + dt must not let a farther hit replace a
             // nearer one.)
             if si.t >= t_max {
@@ -138,7 +174,8 @@ impl InstanceAccel {
             Some(t)
         })?;
         let (si, i) = best?;
-        let mut out = self.instances[i].transform.interaction_to_render(&si);
+        let mut out = self.instances[i]
+            .with_transform_at(ray.time, |transform| transform.interaction_to_render(&si));
         out.t = si.t;
         Some(out)
     }
@@ -153,10 +190,12 @@ impl InstanceAccel {
     ) -> bool {
         self.top.any_hit(ray, t_max, |i, t_max| {
             let instance = &self.instances[i];
-            let (local, dt) = ray_to_instance(&instance.transform, ray);
-            let local_t_max = t_max - dt;
-            local_t_max > 0.0
-                && intersect_p(&self.objects[instance.object as usize], &local, local_t_max)
+            instance.with_transform_at(ray.time, |transform| {
+                let (local, dt) = ray_to_instance(transform, ray);
+                let local_t_max = t_max - dt;
+                local_t_max > 0.0
+                    && intersect_p(&self.objects[instance.object as usize], &local, local_t_max)
+            })
         })
     }
 }
@@ -186,6 +225,7 @@ pub fn build_levels(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::math::Transform;
     use crate::shapes::{Shape, ShapeStorage, Sphere};
     use glam::{DVec3, Vec3};
 
@@ -201,7 +241,11 @@ mod tests {
             360.0,
         )));
         let (bvh, _) = Bvh::build_from(&[sphere.bounds(&storage)], 0);
-        (InstanceAccel::build(vec![bvh], &[(0, *t)]), storage, sphere)
+        (
+            InstanceAccel::build(vec![bvh], &[(0, MotionTransform::new(*t, 0.0, *t, 1.0))]),
+            storage,
+            sphere,
+        )
     }
 
     fn intersect(

@@ -106,7 +106,7 @@ impl OrthographicCamera {
             )
         };
         let time = crate::math::lerp(sample.time, self.shutter_open, self.shutter_close);
-        let m = &self.transform.render_from_camera;
+        let m = self.transform.render_from_camera_at(time);
         let to_render =
             |(o, d): (Vec3, Vec3)| (m.transform_point3(o), m.transform_vector3(d).normalize());
         let (origin, direction) = to_render(ray);

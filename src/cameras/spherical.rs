@@ -97,7 +97,8 @@ impl SphericalCamera {
     }
 
     pub fn generate_ray(&self, sample: &CameraSample) -> Option<CameraRay> {
-        let m = &self.transform.render_from_camera;
+        let time = crate::math::lerp(sample.time, self.shutter_open, self.shutter_close);
+        let m = self.transform.render_from_camera_at(time);
         let render_direction = |p_film: Vec2| {
             m.transform_vector3(direction(self.mapping, self.resolution, p_film))
                 .normalize()
@@ -108,7 +109,6 @@ impl SphericalCamera {
             d + (shifted - d) / DIFFERENCE_STEP
         };
         let origin = m.transform_point3(Vec3::ZERO);
-        let time = crate::math::lerp(sample.time, self.shutter_open, self.shutter_close);
         Some(CameraRay {
             ray: Ray::new(origin, d, time),
             weight: 1.0,

@@ -68,20 +68,22 @@ impl Bounds3 {
         2.0 * (d.x * d.y + d.x * d.z + d.y * d.z)
     }
 
+    /// The eight corners (x from bit 0 of the index, y bit 1, z bit 2).
+    pub fn corners(&self) -> [Vec3; 8] {
+        std::array::from_fn(|i| {
+            Vec3::new(
+                if i & 1 == 0 { self.min.x } else { self.max.x },
+                if i & 2 == 0 { self.min.y } else { self.max.y },
+                if i & 4 == 0 { self.min.z } else { self.max.z },
+            )
+        })
+    }
+
     /// The box transformed by a 4×4 affine matrix (bounds of its 8 corners).
     pub fn transformed(&self, m: &glam::Mat4) -> Self {
         if self.is_empty() {
             return *self;
         }
-        let mut out = Self::EMPTY;
-        for i in 0..8 {
-            let corner = Vec3::new(
-                if i & 1 == 0 { self.min.x } else { self.max.x },
-                if i & 2 == 0 { self.min.y } else { self.max.y },
-                if i & 4 == 0 { self.min.z } else { self.max.z },
-            );
-            out = out.with_point(m.transform_point3(corner));
-        }
-        out
+        Self::from_points(self.corners().map(|c| m.transform_point3(c)))
     }
 }

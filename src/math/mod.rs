@@ -7,6 +7,7 @@ pub mod exp4;
 pub mod fast_atan2;
 pub mod frame;
 pub mod hash;
+pub mod motion_transform;
 pub mod pcg32;
 pub mod ray;
 pub mod sampling;
@@ -14,6 +15,7 @@ pub mod transform;
 
 pub use bounds::Bounds3;
 pub use frame::Frame;
+pub use motion_transform::MotionTransform;
 pub use ray::{offset_ray_origin, Ray};
 pub use transform::Transform;
 

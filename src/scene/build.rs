@@ -134,6 +134,12 @@ pub struct BuiltScene {
 }
 
 impl BuiltScene {
+    /// Whether anything moves during the shutter interval (the camera,
+    /// a shape or an instance): camera rays then need their own times.
+    pub fn has_motion(&self) -> bool {
+        self.instances.has_motion() || self.camera.transform().is_moving()
+    }
+
     /// The closest surface hit by `ray` before `t_max`: the top level's,
     /// then the instances' (nearer than it).
     pub fn intersect(&self, ray: &Ray, t_max: f32) -> Option<(SurfaceInteraction, &Primitive)> {
@@ -365,7 +371,6 @@ impl BuiltScene {
 /// sampler ([`prepare_lights`]).
 pub fn build(mut description: SceneDescription, overrides: &RenderOverrides) -> Result<BuiltScene> {
     let mut warnings = Vec::new();
-    check_supported(&description)?;
 
     let View {
         camera,
@@ -471,7 +476,7 @@ pub fn build(mut description: SceneDescription, overrides: &RenderOverrides) -> 
         integrator.kind,
         IntegratorKind::LightPath | IntegratorKind::Bdpt
     ) {
-        check_light_tracing(scene, &camera, &lights)?;
+        check_light_tracing(scene, &camera, &lights, &instances)?;
     }
     Ok(BuiltScene {
         camera,
@@ -529,17 +534,6 @@ fn create_media<'s>(
 /// that every name is defined).
 fn medium_ref(index: &HashMap<&str, u16>, name: &str) -> Option<u16> {
     index.get(name).copied()
-}
-
-/// Refuses what the renderer does not support yet: an animated camera.
-fn check_supported(scene: &SceneDescription) -> Result<()> {
-    if scene.camera.camera_from_world.is_animated() {
-        return scene_error(
-            "an animated camera (motion blur) is not supported yet",
-            &scene.camera.entity.location.0,
-        );
-    }
-    Ok(())
 }
 
 /// What the scene is seen and sampled through: camera, film, sampler and
@@ -860,7 +854,7 @@ fn create_aggregate(
     boxes: Vec<BuildBox>,
     shapes: &mut ShapeStorage,
     group_ends: &[usize],
-    instance_transforms: &[(u32, crate::math::Transform)],
+    instance_transforms: &[(u32, crate::math::MotionTransform)],
 ) -> Result<Aggregate> {
     let object_ranges: Vec<std::ops::Range<usize>> = (1..group_ends.len())
         .map(|g| group_ends[g - 1]..group_ends[g])
@@ -1053,8 +1047,24 @@ fn dual_hair_width_warning(material: &Material, entity: &Entity) -> Result<Optio
 
 /// Light tracing needs the camera's importance and the lights' emission
 /// sampled: refuses what does not have them yet.
-fn check_light_tracing(scene: &SceneDescription, camera: &Camera, lights: &[Light]) -> Result<()> {
+fn check_light_tracing(
+    scene: &SceneDescription,
+    camera: &Camera,
+    lights: &[Light],
+    instances: &InstanceAccel,
+) -> Result<()> {
     let e = &scene.integrator;
+    // Light paths would need the camera ray's time, which they do not
+    // carry yet.
+    if instances.has_motion() || camera.transform().is_moving() {
+        return scene_error(
+            format!(
+                "integrator \"{}\" with motion blur (a moving camera, shape or instance) is not supported yet",
+                e.kind
+            ),
+            &e.location.0,
+        );
+    }
     if camera.as_perspective().is_none() {
         return scene_error(
             format!(

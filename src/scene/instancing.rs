@@ -15,12 +15,17 @@
 //!   (pbrt-v4 skips them silently).
 //! - Area lights inside objects: the scene builder already warned, as
 //!   pbrt-v4 does, and the shapes do not emit.
-//! - Animated instance transforms (pbrt-v4 supports them through
-//!   `ActiveTransform`/`TransformTimes`) are not supported yet: an error.
+//! - Motion blur, as pbrt-v4's `AnimatedPrimitive`: an instance whose
+//!   transform moves (`ActiveTransform`/`TransformTimes`) is never
+//!   flattened, and its render-from-instance is a [`MotionTransform`]. A
+//!   moving shape at the top level becomes an object of its own, made in
+//!   object space and placed by render-from-object over time. A moving
+//!   shape inside an object (a third level) is refused with its location,
+//!   and so is a moving area light (pbrt-v4 refuses those too).
 
 use crate::error::{scene_error, Result};
-use crate::math::Transform;
-use crate::scene_description::{SceneDescription, Shape};
+use crate::math::{MotionTransform, Transform};
+use crate::scene_description::{AnimatedTransform, SceneDescription, Shape};
 use pbrt_parser::Warning;
 
 /// A shape and where its primitives go. The placement owns the shape's
@@ -35,6 +40,9 @@ pub struct ShapePlacement {
     pub flattened_instance: Option<u32>,
     /// 0: the top level; `k + 1`: instanced object `k`.
     pub group: u32,
+    /// Made with the identity transform, in its own object space: a
+    /// moving shape, which an instance places over time.
+    pub in_object_space: bool,
 }
 
 /// The shapes in group order (top level first, then each instanced object)
@@ -47,8 +55,21 @@ pub struct InstancePlan {
     /// How many instanced objects (groups `1..=object_count`).
     pub object_count: usize,
     /// (instanced object, render-from-instance), one per `ObjectInstance`
-    /// of an object used more than once.
-    pub instances: Vec<(u32, Transform)>,
+    /// of an object used more than once or moving, and one per moving
+    /// shape.
+    pub instances: Vec<(u32, MotionTransform)>,
+}
+
+/// `outer` × the description's transform × `inner`, at both ends of its
+/// motion.
+fn motion(outer: &Transform, animated: &AnimatedTransform, inner: &Transform) -> MotionTransform {
+    let at = |t: &Transform| outer.then(t).then(inner);
+    MotionTransform::new(
+        at(&animated.start),
+        animated.start_time as f32,
+        at(animated.end.as_ref().unwrap_or(&animated.start)),
+        animated.end_time as f32,
+    )
 }
 
 /// Plans the scene's shapes and instances, taking every shape out of
@@ -63,12 +84,6 @@ pub fn plan(
     let mut uses = vec![0usize; scene.objects.len()];
     let mut warned = vec![false; scene.objects.len()];
     for instance in &scene.instances {
-        if scene.transform(instance.world_from_instance).is_animated() {
-            return scene_error(
-                "animated object instances (ActiveTransform/TransformTimes motion blur) are not supported yet",
-                &instance.location.0,
-            );
-        }
         let object = &scene.objects[instance.object];
         if object.shapes.is_empty() {
             if !std::mem::replace(&mut warned[instance.object], true) {
@@ -90,12 +105,24 @@ pub fn plan(
         .iter_mut()
         .map(|object| std::mem::take(&mut object.shapes))
         .collect();
-    let mut placements: Vec<ShapePlacement> = std::mem::take(&mut scene.shapes)
+    for shape in object_shapes.iter().flatten() {
+        if scene.transform(shape.world_from_object).is_animated() {
+            return scene_error(
+                "a moving shape inside an object (ObjectBegin) is not supported yet (motion blur of instances and of shapes outside objects is)",
+                &shape.entity.location.0,
+            );
+        }
+    }
+    let (moving, fixed): (Vec<Shape>, Vec<Shape>) = std::mem::take(&mut scene.shapes)
+        .into_iter()
+        .partition(|shape| scene.transform(shape.world_from_object).is_animated());
+    let mut placements: Vec<ShapePlacement> = fixed
         .into_iter()
         .map(|shape| ShapePlacement {
             shape,
             flattened_instance: None,
             group: 0,
+            in_object_space: false,
         })
         .collect();
     let mut flattened = Vec::new();
@@ -103,19 +130,23 @@ pub fn plan(
     let mut object_count = 0;
     let mut instances = Vec::new();
     for instance in &scene.instances {
-        let render_from_instance = render_from_world
-            .then(&scene.transform(instance.world_from_instance).start)
-            .then(&world_from_render);
+        let render_from_instance = motion(
+            render_from_world,
+            scene.transform(instance.world_from_instance),
+            &world_from_render,
+        );
+        let start = *render_from_instance.start();
         match uses[instance.object] {
             0 => {}
-            1 if !render_from_instance.swaps_handedness() => {
+            1 if !render_from_instance.is_animated() && !start.swaps_handedness() => {
                 let index = flattened.len() as u32;
-                flattened.push(render_from_instance);
+                flattened.push(start);
                 let shapes = std::mem::take(&mut object_shapes[instance.object]);
                 placements.extend(shapes.into_iter().map(|shape| ShapePlacement {
                     shape,
                     flattened_instance: Some(index),
                     group: 0,
+                    in_object_space: false,
                 }))
             }
             _ => {
@@ -142,8 +173,33 @@ pub fn plan(
                     shape,
                     flattened_instance: None,
                     group: k as u32 + 1,
+                    in_object_space: false,
                 }),
         );
+    }
+    // Each moving shape: an object of its own, after the instanced ones.
+    for shape in moving {
+        if shape.area_light.is_some() {
+            return scene_error(
+                "a moving area light (motion blur) is not supported (nor by pbrt-v4)",
+                &shape.entity.location.0,
+            );
+        }
+        instances.push((
+            object_count as u32,
+            motion(
+                render_from_world,
+                scene.transform(shape.world_from_object),
+                &Transform::IDENTITY,
+            ),
+        ));
+        object_count += 1;
+        placements.push(ShapePlacement {
+            shape,
+            flattened_instance: None,
+            group: object_count as u32,
+            in_object_space: true,
+        });
     }
     Ok(InstancePlan {
         placements,

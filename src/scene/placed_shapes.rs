@@ -150,14 +150,18 @@ fn place<'s>(
         Alpha::Opaque => None,
         Alpha::Cutout(texture) => Some(texture),
     };
-    let transform = context.scene.transform(shape.world_from_object);
-    if transform.is_animated() {
-        return scene_error("animated shapes (motion blur) are not supported yet", loc);
-    }
     let inside = context.media.get(shape.inside_medium.as_str()).copied();
     let outside = context.media.get(shape.outside_medium.as_str()).copied();
     placed.medium_interface = (inside != outside).then_some(MediumInterface { inside, outside });
-    let mut render_from_object = context.render_from_world.then(&transform.start);
+    // A moving shape is made in its own space, which its instance moves
+    // (`instancing`).
+    let mut render_from_object = if placement.in_object_space {
+        Transform::IDENTITY
+    } else {
+        context
+            .render_from_world
+            .then(&context.scene.transform(shape.world_from_object).start)
+    };
     if let Some(instance) = placement.flattened_instance {
         render_from_object = context.flattened[instance as usize].then(&render_from_object);
     }
