@@ -183,3 +183,91 @@ fn shared_nanovdb_scenes_render_or_name_their_missing_files() {
     }
     std::fs::remove_dir_all(&dir).ok();
 }
+
+/// `simplevolpath` (delta tracking at one wavelength, no light sampling)
+/// passes the same analytic checks as `volpath`: a white furnace stays 1,
+/// an absorber transmits exp(−σa d); and both integrators agree on a
+/// chromatic, scattering, emitting ball.
+#[test]
+fn simple_vol_path_passes_the_analytic_checks_and_agrees_with_volpath() {
+    let simple = |scene: String| scene.replace("\"volpath\"", "\"simplevolpath\"");
+    let medium =
+        "\"homogeneous\" \"rgb sigma_a\" [0 0 0] \"rgb sigma_s\" [2 1 0.5] \"float g\" 0.5";
+    let image = render(
+        "simple-furnace",
+        &simple(ball(medium, "\"interface\"", 16, 30.0)),
+        128,
+        2,
+    );
+    let m = mean(&image);
+    assert!((m - 1.0).abs() < 0.01, "furnace mean {m}");
+
+    let sigma = 0.6f32;
+    let absorber = format!(
+        "\"homogeneous\" \"spectrum sigma_a\" [360 {sigma} 830 {sigma}] \"rgb sigma_s\" [0 0 0]"
+    );
+    let image = render(
+        "simple-absorber",
+        &simple(ball(&absorber, "\"interface\"", 8, 0.5)),
+        1024,
+        2,
+    );
+    let m = mean(&image);
+    let expected = (-sigma * 2.0).exp() as f64;
+    // Each sample passes or not: 65,536 of them leave a standard
+    // deviation of 0.6 % of the mean.
+    assert!(
+        (m - expected).abs() < 0.02 * expected,
+        "absorber {m} vs {expected}"
+    );
+
+    // Chromatic σa and σs, emission: the per-channel means agree.
+    let glowing = "\"homogeneous\" \"rgb sigma_a\" [0.4 0.2 0.1] \"rgb sigma_s\" [0.5 1 2] \
+                   \"rgb Le\" [0.5 0.3 0.1] \"float g\" -0.3";
+    let scene = ball(glowing, "\"interface\"", 12, 30.0).replace("[1 1 1]", "[0.3 0.5 0.8]");
+    let reference = render("glow-volpath", &scene, 256, 2);
+    let image = render("glow-simple", &simple(scene), 1024, 2);
+    let channel_means = |image: &Image| {
+        let data = image.rgb_data();
+        let n = data.len() / 3;
+        [0, 1, 2].map(|c| (0..n).map(|i| data[3 * i + c] as f64).sum::<f64>() / n as f64)
+    };
+    let (a, b) = (channel_means(&reference), channel_means(&image));
+    for c in 0..3 {
+        assert!(
+            (a[c] - b[c]).abs() < 0.02 * a[c],
+            "channel {c}: volpath {a:?}, simplevolpath {b:?}"
+        );
+    }
+}
+
+/// `simplevolpath` refuses what pbrt-v4's refuses: delta lights, and
+/// surfaces that would scatter.
+#[test]
+fn simple_vol_path_refuses_delta_lights_and_scattering_surfaces() {
+    let head = "Camera \"perspective\"\nIntegrator \"simplevolpath\"\nWorldBegin\n";
+    for (world, expected) in [
+        ("LightSource \"point\"\n", "only area and infinite lights"),
+        (
+            "LightSource \"infinite\"\nShape \"sphere\"\n",
+            "does not scatter at surfaces",
+        ),
+    ] {
+        let text = format!("{head}{world}");
+        let loaded = rpbrt::scene::load_text(std::path::Path::new("s.pbrt"), &text).unwrap();
+        let error = match rpbrt::scene::build::build(loaded.scene, &Default::default()) {
+            Ok(_) => panic!("should be refused: {world}"),
+            Err(e) => e.to_string(),
+        };
+        assert!(
+            error.contains(expected) && error.contains("s.pbrt:2:"),
+            "{error}"
+        );
+    }
+    // A black diffuse surface is allowed: it ends paths.
+    let text = format!(
+        "{head}LightSource \"infinite\"\nMaterial \"diffuse\" \"rgb reflectance\" [0 0 0]\nShape \"sphere\"\n"
+    );
+    let loaded = rpbrt::scene::load_text(std::path::Path::new("s.pbrt"), &text).unwrap();
+    assert!(rpbrt::scene::build::build(loaded.scene, &Default::default()).is_ok());
+}

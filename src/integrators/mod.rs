@@ -8,6 +8,7 @@ pub mod path;
 mod random_walk;
 pub mod ray_counts;
 mod simple_path;
+pub mod simple_vol_path;
 mod surface_hit;
 pub mod volpath;
 
@@ -42,6 +43,9 @@ pub fn li(
         }
         IntegratorKind::RandomWalk => {
             random_walk::random_walk_li(scene, camera_ray, lambda, sampler, rays)
+        }
+        IntegratorKind::SimpleVolPath => {
+            simple_vol_path::simple_vol_path_li(scene, camera_ray, lambda, sampler, rays)
         }
         IntegratorKind::SimplePath(s) => {
             simple_path::simple_path_li(scene, s, camera_ray, lambda, sampler, rays)

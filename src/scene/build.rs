@@ -12,7 +12,7 @@ use crate::error::{scene_error, Result};
 use crate::film::RgbFilm;
 use crate::filters::Filter;
 use crate::interaction::SurfaceInteraction;
-use crate::lights::{self, Light, LightSampler};
+use crate::lights::{self, Light, LightKind, LightSampler};
 use crate::materials::Material;
 use crate::math::{offset_ray_origin, Bounds3, Ray};
 use crate::media::Medium;
@@ -23,7 +23,7 @@ use crate::shapes::{Shape, ShapeStorage};
 use crate::spectrum::color_space::SpectrumKind;
 use crate::textures::{create_texture, FloatTexture, NamedTextures, SpectrumTexture};
 use glam::{IVec2, Vec3};
-use pbrt_parser::Warning;
+use pbrt_parser::{Location as FileLoc, Warning};
 use rayon::prelude::*;
 use std::collections::HashMap;
 use std::path::PathBuf;
@@ -52,6 +52,7 @@ pub enum IntegratorKind {
     AmbientOcclusion(AmbientOcclusionSettings),
     RandomWalk,
     SimplePath(SimplePathSettings),
+    SimpleVolPath,
     LightPath,
     Bdpt,
 }
@@ -454,7 +455,7 @@ pub fn build(mut description: SceneDescription, overrides: &RenderOverrides) -> 
     if has_media {
         let e = &scene.integrator;
         match integrator.kind {
-            IntegratorKind::VolPath => {}
+            IntegratorKind::VolPath | IntegratorKind::SimpleVolPath => {}
             // pbrt-v4's bdpt scatters in media: ignoring them would be a
             // silently different image.
             IntegratorKind::Bdpt => {
@@ -471,6 +472,14 @@ pub fn build(mut description: SceneDescription, overrides: &RenderOverrides) -> 
                 location: e.location.0.clone(),
             }),
         }
+    }
+    if integrator.kind == IntegratorKind::SimpleVolPath {
+        check_simple_vol_path(
+            &lights,
+            &primitives,
+            &materials,
+            &scene.integrator.location.0,
+        )?;
     }
     if matches!(
         integrator.kind,
@@ -1086,6 +1095,51 @@ fn check_light_tracing(
     Ok(())
 }
 
+/// pbrt-v4's conditions, checked before rendering: lights are area or
+/// infinite lights (no delta lights), and no surface scatters (every
+/// material is `interface` or a black `diffuse`), since pbrt-v4 stops
+/// with an error at the first surface that would.
+fn check_simple_vol_path(
+    lights: &[Light],
+    primitives: &[Primitive],
+    materials: &[Material],
+    integrator_location: &FileLoc,
+) -> Result<()> {
+    if lights.iter().any(|l| {
+        matches!(
+            l.kind(),
+            LightKind::DeltaPosition | LightKind::DeltaDirection
+        )
+    }) {
+        return scene_error(
+            "integrator \"simplevolpath\" supports only area and infinite lights (as pbrt-v4)",
+            integrator_location,
+        );
+    }
+    let black = |m: &Material| match m {
+        Material::Interface => true,
+        Material::Diffuse { reflectance } => {
+            matches!(reflectance, SpectrumTexture::Constant(r) if r.max_value() == 0.0)
+        }
+        _ => false,
+    };
+    let mut used = vec![false; materials.len()];
+    for p in primitives {
+        used[p.material as usize] = true;
+    }
+    if materials
+        .iter()
+        .zip(&used)
+        .any(|(m, &used)| used && !black(m))
+    {
+        return scene_error(
+            "integrator \"simplevolpath\" does not scatter at surfaces (as pbrt-v4): every shape's material must be \"interface\" or a black \"diffuse\"",
+            integrator_location,
+        );
+    }
+    Ok(())
+}
+
 fn integrator_settings(scene: &SceneDescription) -> Result<IntegratorSettings> {
     let e = &scene.integrator;
     let p = &e.params;
@@ -1121,6 +1175,10 @@ fn integrator_settings(scene: &SceneDescription) -> Result<IntegratorSettings> {
             max_depth = p.int("maxdepth", 5)?;
             IntegratorKind::LightPath
         }
+        "simplevolpath" => {
+            max_depth = p.int("maxdepth", 5)?;
+            IntegratorKind::SimpleVolPath
+        }
         "bdpt" => {
             max_depth = p.int("maxdepth", 5)?;
             regularize = p.bool("regularize", false)?;
@@ -1148,7 +1206,7 @@ fn integrator_settings(scene: &SceneDescription) -> Result<IntegratorSettings> {
             return scene_error(
                 format!(
                     "integrator \"{other}\" is not supported yet (supported: path, volpath, \
-                     simplepath, randomwalk, ambientocclusion, lightpath, bdpt)"
+                     simplepath, simplevolpath, randomwalk, ambientocclusion, lightpath, bdpt)"
                 ),
                 &e.location.0,
             )
