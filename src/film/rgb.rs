@@ -8,7 +8,7 @@
 //! | `filename` | string | "pbrt.exr" | output (.exr, .png, .pfm) |
 //! | `savefp16` | bool | true | half-float EXR |
 //! | `iso` | float | 100 | sensitivity: imaging ratio = exposure time × iso / 100 |
-//! | `whitebalance` | float | 0 | white balance temperature (0: none) |
+//! | `whitebalance` | float | 0 | white balance: XYZ under CIE daylight of this temperature (K) adapted to the colour space's white (0: none) |
 //! | `sensor` | string | "cie1931" | sensor response |
 //! | `maxcomponentvalue` | float | ∞ | samples are scaled down so no RGB component exceeds it |
 //! | `diagonal` | float | 35 | film diagonal in mm (realistic camera only) |
@@ -16,9 +16,10 @@
 use crate::error::{scene_error, Result};
 use crate::scene_description::Entity;
 
-use crate::spectrum::{SampledSpectrum, SampledWavelengths};
-use glam::{IVec2, Mat3, Vec3};
+use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
+use glam::{IVec2, Mat3, Vec2, Vec3};
 use std::path::PathBuf;
+use std::sync::Arc;
 
 /// One pixel's weighted sums (f64: millions of samples are summed).
 #[derive(Clone, Copy, Debug, Default)]
@@ -111,10 +112,24 @@ impl RgbFilm {
                 loc,
             );
         }
-        if white_balance != 0.0 {
-            return scene_error("film \"whitebalance\" is not supported yet", loc);
-        }
         let color_space = crate::spectrum::color_space::get(entity.color_space);
+        // pbrt-v4's XYZ sensor: with a white balance temperature, XYZ seen
+        // under CIE daylight of that temperature is adapted (von Kries,
+        // Bradford cones) to the output colour space's white.
+        let mut output_rgb_from_sensor = color_space.rgb_from_xyz;
+        if white_balance != 0.0 {
+            let Some(daylight) = crate::spectrum::daylight_spectrum(white_balance as f32) else {
+                return scene_error(
+                    format!("film \"whitebalance\" {white_balance} must be a positive temperature in kelvin (or 0: none)"),
+                    loc,
+                );
+            };
+            let xyz =
+                crate::spectrum::spectrum_to_xyz(&Spectrum::DenselySampled(Arc::new(daylight)));
+            let source_white = Vec2::new(xyz.x, xyz.y) / (xyz.x + xyz.y + xyz.z);
+            output_rgb_from_sensor *=
+                crate::spectrum::white_balance(source_white, color_space.whitepoint);
+        }
         Ok(RgbFilm {
             full_resolution: full,
             pixel_bounds: bounds,
@@ -122,7 +137,7 @@ impl RgbFilm {
             save_fp16,
             imaging_ratio: exposure_time * iso / 100.0,
             max_component_value,
-            output_rgb_from_sensor: color_space.rgb_from_xyz,
+            output_rgb_from_sensor,
         })
     }
 
