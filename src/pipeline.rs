@@ -2,18 +2,19 @@
 
 use crate::cameras::CameraSample;
 use crate::error::{Error, Result};
+use crate::film::rgb::Pixel;
+use crate::film::spectral::SpectralPixel;
 use crate::film::splat::SplatBuffer;
-use crate::film::RgbFilm;
+use crate::film::{FilmPixel, RgbFilm};
 use crate::filters::FilterSample;
 use crate::image::pixel_format::count_beyond_half;
 use crate::image::{DataWindow, Image};
 use crate::integrators::bdpt::bdpt_li;
 use crate::integrators::light_path::trace_light_path;
 use crate::integrators::{li, RayCounts};
-use crate::render::{interrupt_flag, render};
-use crate::scene::build::{build, IntegratorKind, RenderOverrides};
+use crate::render::{interrupt_flag, render, RenderOutcome};
+use crate::scene::build::{build, BuiltScene, IntegratorKind, RenderOverrides};
 use crate::scene_description::ColorSpaceName;
-use crate::spectrum::SampledWavelengths;
 use glam::Vec2;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicU64, Ordering};
@@ -88,12 +89,10 @@ pub fn render_file(
     let spp = built.sampler.samples_per_pixel();
     let bad = AtomicU64::new(0);
     let rays = Mutex::new(RayCounts::default());
-    let (wavelength_jitter, pixel_jitter) = (
-        !options.disable_wavelength_jitter,
-        !options.disable_pixel_jitter,
-    );
-    let uses_lens = built.camera.uses_lens();
-    let has_motion = built.has_motion();
+    let jitter = Jitter {
+        wavelength: !options.disable_wavelength_jitter,
+        pixel: !options.disable_pixel_jitter,
+    };
     // Light tracing deposits its light on the film anywhere (splats); the
     // other integrators add one sample to their own pixel.
     let splats = matches!(
@@ -101,95 +100,36 @@ pub fn render_file(
         IntegratorKind::LightPath | IntegratorKind::Bdpt
     )
     .then(|| SplatBuffer::new(film.pixel_bounds));
-    let light_path_only = built.integrator.kind == IntegratorKind::LightPath;
-    let outcome = render(
-        film.pixel_bounds,
-        spp,
-        threads,
-        show_progress,
-        interrupt_flag(),
-        || (built.sampler.clone(), RayTally::new(&rays)),
-        |(sampler, tally), pixel, index, acc| {
-            sampler.start_pixel_sample(pixel, index, 0);
-            if let (Some(splats), true) = (&splats, light_path_only) {
-                let lu = sampler.get_1d();
-                let mut lambda =
-                    SampledWavelengths::sample_visible(if wavelength_jitter { lu } else { 0.5 });
-                trace_light_path(&built, &mut lambda, sampler, splats, &mut tally.counts);
-                return;
-            }
-            // Without jitter (pbrt-v4's `disablewavelengthjitter` and
-            // `disablepixeljitter`) the numbers are drawn all the same, so
-            // later dimensions stay pbrt-v4's: the wavelengths are those of
-            // u = 1/2, and the film point is the pixel's centre, weight 1.
-            let lu = sampler.get_1d();
-            let mut lambda =
-                SampledWavelengths::sample_visible(if wavelength_jitter { lu } else { 0.5 });
-            let mut fs = built.filter.sample(sampler.get_pixel_2d());
-            if !pixel_jitter {
-                fs = FilterSample {
-                    p: Vec2::ZERO,
-                    weight: 1.0,
-                };
-            }
-            // pbrt-v4 takes a time and a lens point for every camera ray.
-            // Without motion the time changes nothing, and without a lens
-            // neither does the lens point: their dimensions are skipped,
-            // not computed, so later ones stay pbrt-v4's.
-            let time = if has_motion {
-                sampler.get_1d()
-            } else {
-                sampler.skip(1);
-                0.5
-            };
-            let p_lens = if uses_lens {
-                sampler.get_2d()
-            } else {
-                sampler.skip(2);
-                Vec2::splat(0.5)
-            };
-            let sample = CameraSample {
-                p_film: pixel.as_vec2() + Vec2::splat(0.5) + fs.p,
-                time,
-                p_lens,
-                filter_weight: fs.weight,
-            };
-            let Some(camera_ray) = built.camera.generate_ray(&sample, &lambda) else {
-                return;
-            };
-            let mut l = match &splats {
-                Some(splats) => bdpt_li(
-                    &built,
-                    &camera_ray,
-                    &mut lambda,
-                    sampler,
-                    splats,
-                    &mut tally.counts,
-                ),
-                None => li(&built, &camera_ray, &mut lambda, sampler, &mut tally.counts),
-            } * camera_ray.weight;
-            if l.has_nan() || l.0.iter().any(|v| v.is_infinite()) {
-                bad.fetch_add(1, Ordering::Relaxed);
-                l = crate::spectrum::SampledSpectrum::ZERO;
-            }
-            film.add_sample(acc, l, &lambda, sample.filter_weight);
-        },
-    )
-    .map_err(thread_pool_error)?;
-
     let (lo, hi) = film.pixel_bounds;
     let (w, h) = ((hi.x - lo.x) as u32, (hi.y - lo.y) as u32);
-    let mut data = Vec::with_capacity((w * h * 3) as usize);
-    // Splats are averaged over the samples each pixel took, and the
-    // filter's weights over its integral, as pbrt-v4's film does.
-    let splat_scale = 1.0 / (outcome.samples_completed.max(1) as f32 * built.filter.integral());
-    for (i, p) in outcome.pixels.iter().enumerate() {
-        let mut rgb = film.pixel_rgb(p);
-        if let Some(splats) = &splats {
-            rgb += film.splat_rgb(splats.sum(i) * splat_scale);
+    let sampling = Sampling {
+        built: &built,
+        threads,
+        show_progress,
+        jitter,
+        splats: splats.as_ref(),
+        bad: &bad,
+        rays: &rays,
+    };
+    // The image: output RGB, then (spectral film) the buckets' radiance.
+    let (outcome, mut channels, data) = match &film.spectral {
+        None => {
+            let outcome = sampling.sample_pixels(Pixel::default())?;
+            let data = film_rgb(&built, &outcome, splats.as_ref());
+            (outcome.without_pixels(), Vec::new(), data)
         }
-        data.extend_from_slice(&[rgb.x, rgb.y, rgb.z]);
-    }
+        Some(buckets) => {
+            let outcome = sampling.sample_pixels(SpectralPixel::new(buckets))?;
+            let rgb = film_rgb(&built, &outcome, splats.as_ref());
+            let mut data = Vec::with_capacity(outcome.pixels.len() * (3 + buckets.count));
+            for (p, rgb) in outcome.pixels.iter().zip(rgb.chunks_exact(3)) {
+                data.extend_from_slice(rgb);
+                data.extend(p.bucket_values());
+            }
+            (outcome.without_pixels(), buckets.channel_names(), data)
+        }
+    };
+    channels.splice(0..0, ["R", "G", "B"].map(String::from));
     let io_error = |e: crate::image::ImageError| Error::Io {
         path: film.filename.display().to_string(),
         source: std::io::Error::other(e.to_string()),
@@ -203,7 +143,8 @@ pub fn render_file(
     } else {
         0
     };
-    let image = Image::from_rgb(w, h, data).map_err(io_error)?;
+    let channel_names: Vec<&str> = channels.iter().map(String::as_str).collect();
+    let image = Image::new(w, h, &channel_names, data).map_err(io_error)?;
     if is_exr {
         // A partial render keeps its place in the film (as pbrt-v4 writes
         // it), so `rpbrt imgtool assemble` can put the pieces together.
@@ -212,8 +153,17 @@ pub fn render_file(
             full_resolution: (full.x as u32, full.y as u32),
             origin: (lo.x, lo.y),
         };
+        // The spectral layout's header entries, as pbrt-v4 writes them.
+        let attributes: &[(&str, &str)] = if film.spectral.is_some() {
+            &[
+                ("spectralLayoutVersion", "1.0"),
+                ("emissiveUnits", "W.m^-2.sr^-1"),
+            ]
+        } else {
+            &[]
+        };
         image
-            .write_exr_in_window(&film.filename, film.save_fp16, Some(&window))
+            .write_exr_with_attributes(&film.filename, film.save_fp16, Some(&window), attributes)
             .map_err(io_error)?;
     } else {
         image.write(&film.filename).map_err(io_error)?;
@@ -233,6 +183,142 @@ pub fn render_file(
         rays: rays.into_inner().unwrap_or_else(|e| e.into_inner()),
         warnings,
     })
+}
+
+/// Whether wavelengths and film positions are jittered (pbrt-v4's
+/// `disablewavelengthjitter`, `disablepixeljitter` turn them off).
+#[derive(Clone, Copy)]
+struct Jitter {
+    wavelength: bool,
+    pixel: bool,
+}
+
+/// What taking the pixels' samples needs: the scene, the threads, whether
+/// to show progress, the jitter, light tracing's splat buffer, and the
+/// counts of bad samples and rays.
+struct Sampling<'a> {
+    built: &'a BuiltScene,
+    threads: usize,
+    show_progress: bool,
+    jitter: Jitter,
+    splats: Option<&'a SplatBuffer>,
+    bad: &'a AtomicU64,
+    rays: &'a Mutex<RayCounts>,
+}
+
+impl Sampling<'_> {
+    /// Takes every pixel's samples, accumulating them in pixels of the
+    /// film's kind (`empty` is one before any sample), and light tracing's
+    /// splats in the splat buffer. NaN or infinite samples are counted and
+    /// add nothing.
+    fn sample_pixels<P: FilmPixel>(&self, empty: P) -> Result<RenderOutcome<P>> {
+        let Sampling {
+            built,
+            threads,
+            show_progress,
+            jitter,
+            splats,
+            bad,
+            rays,
+        } = *self;
+        let film = &built.film;
+        let uses_lens = built.camera.uses_lens();
+        let has_motion = built.has_motion();
+        let light_path_only = built.integrator.kind == IntegratorKind::LightPath;
+        render(
+            film.pixel_bounds,
+            built.sampler.samples_per_pixel(),
+            threads,
+            show_progress,
+            interrupt_flag(),
+            empty,
+            || (built.sampler.clone(), RayTally::new(rays)),
+            |(sampler, tally), pixel, index, acc: &mut P| {
+                sampler.start_pixel_sample(pixel, index, 0);
+                let lu = sampler.get_1d();
+                let mut lambda = film.sample_wavelengths(if jitter.wavelength { lu } else { 0.5 });
+                if let (Some(splats), true) = (splats, light_path_only) {
+                    trace_light_path(built, &mut lambda, sampler, splats, &mut tally.counts);
+                    return;
+                }
+                // Without jitter (pbrt-v4's `disablewavelengthjitter` and
+                // `disablepixeljitter`) the numbers are drawn all the same, so
+                // later dimensions stay pbrt-v4's: the wavelengths are those of
+                // u = 1/2 (above), and the film point is the pixel's centre,
+                // weight 1.
+                let mut fs = built.filter.sample(sampler.get_pixel_2d());
+                if !jitter.pixel {
+                    fs = FilterSample {
+                        p: Vec2::ZERO,
+                        weight: 1.0,
+                    };
+                }
+                // pbrt-v4 takes a time and a lens point for every camera ray.
+                // Without motion the time changes nothing, and without a lens
+                // neither does the lens point: their dimensions are skipped,
+                // not computed, so later ones stay pbrt-v4's.
+                let time = if has_motion {
+                    sampler.get_1d()
+                } else {
+                    sampler.skip(1);
+                    0.5
+                };
+                let p_lens = if uses_lens {
+                    sampler.get_2d()
+                } else {
+                    sampler.skip(2);
+                    Vec2::splat(0.5)
+                };
+                let sample = CameraSample {
+                    p_film: pixel.as_vec2() + Vec2::splat(0.5) + fs.p,
+                    time,
+                    p_lens,
+                    filter_weight: fs.weight,
+                };
+                let Some(camera_ray) = built.camera.generate_ray(&sample, &lambda) else {
+                    return;
+                };
+                let mut l = match splats {
+                    Some(splats) => bdpt_li(
+                        built,
+                        &camera_ray,
+                        &mut lambda,
+                        sampler,
+                        splats,
+                        &mut tally.counts,
+                    ),
+                    None => li(built, &camera_ray, &mut lambda, sampler, &mut tally.counts),
+                } * camera_ray.weight;
+                if l.has_nan() || l.0.iter().any(|v| v.is_infinite()) {
+                    bad.fetch_add(1, Ordering::Relaxed);
+                    l = crate::spectrum::SampledSpectrum::ZERO;
+                }
+                acc.add_sample(film, l, &lambda, sample.filter_weight);
+            },
+        )
+        .map_err(thread_pool_error)
+    }
+}
+
+/// The film's output RGB of every pixel (interleaved), splats added.
+fn film_rgb<P: FilmPixel>(
+    built: &BuiltScene,
+    outcome: &RenderOutcome<P>,
+    splats: Option<&SplatBuffer>,
+) -> Vec<f32> {
+    let film = &built.film;
+    let mut data = Vec::with_capacity(outcome.pixels.len() * 3);
+    // Splats are averaged over the samples each pixel took, and the
+    // filter's weights over its integral, as pbrt-v4's film does.
+    let splat_scale = 1.0 / (outcome.samples_completed.max(1) as f32 * built.filter.integral());
+    for (i, p) in outcome.pixels.iter().enumerate() {
+        let mut rgb = film.pixel_rgb(p.rgb());
+        if let Some(splats) = splats {
+            rgb += film.splat_rgb(splats.sum(i) * splat_scale);
+        }
+        data.extend_from_slice(&[rgb.x, rgb.y, rgb.z]);
+    }
+    data
 }
 
 /// `--pixelbounds` / `--cropwindow` against the image: an error when no

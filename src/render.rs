@@ -17,9 +17,9 @@ use std::time::{Duration, Instant};
 const TILE: i32 = 16;
 
 /// What the loop did.
-pub struct RenderOutcome {
+pub struct RenderOutcome<P = Pixel> {
     /// Pixel sums over the pixel bounds, row-major.
-    pub pixels: Vec<Pixel>,
+    pub pixels: Vec<P>,
     /// Samples per pixel completed in every pixel.
     pub samples_completed: u32,
     pub interrupted: bool,
@@ -31,26 +31,45 @@ pub struct RenderOutcome {
     pub cpu: Option<Duration>,
 }
 
+impl<P> RenderOutcome<P> {
+    /// The outcome's figures, its pixels dropped (once they are made into
+    /// an image).
+    pub fn without_pixels(self) -> RenderOutcome<()> {
+        RenderOutcome {
+            pixels: Vec::new(),
+            samples_completed: self.samples_completed,
+            interrupted: self.interrupted,
+            elapsed: self.elapsed,
+            cpu: self.cpu,
+        }
+    }
+}
+
 /// Renders `spp` samples for every pixel in `[bounds.0, bounds.1)`.
 /// `make_state` makes per-task state (a sampler, scratch buffers);
 /// `evaluate(state, pixel, sample_index, accumulator)` takes one sample.
-pub fn render<S, M, F>(
+/// Every pixel's accumulator starts as `empty_pixel` (the film's kind:
+/// RGB sums, or RGB and spectral buckets).
+#[allow(clippy::too_many_arguments)]
+pub fn render<S, M, F, P>(
     bounds: (IVec2, IVec2),
     spp: u32,
     threads: usize,
     show_progress: bool,
     interrupt: &AtomicBool,
+    empty_pixel: P,
     make_state: M,
     evaluate: F,
-) -> Result<RenderOutcome, rayon::ThreadPoolBuildError>
+) -> Result<RenderOutcome<P>, rayon::ThreadPoolBuildError>
 where
     M: Fn() -> S + Sync,
-    F: Fn(&mut S, IVec2, u32, &mut Pixel) + Sync,
+    F: Fn(&mut S, IVec2, u32, &mut P) + Sync,
+    P: Clone + Send + Sync,
 {
     let start = Instant::now();
     let cpu_start = process_cpu_time();
     let size = bounds.1 - bounds.0;
-    let mut pixels = vec![Pixel::default(); (size.x.max(0) * size.y.max(0)) as usize];
+    let mut pixels = vec![empty_pixel; (size.x.max(0) * size.y.max(0)) as usize];
     let tiles: Vec<(IVec2, IVec2)> = (bounds.0.y..bounds.1.y)
         .step_by(TILE as usize)
         .flat_map(|y| {
@@ -84,13 +103,13 @@ where
     for (first, end) in waves {
         // Each tile gets its own slice of accumulators, so no pixel is
         // shared between tasks.
-        let mut tile_pixels: Vec<Vec<Pixel>> = tiles
+        let mut tile_pixels: Vec<Vec<P>> = tiles
             .iter()
             .map(|(lo, hi)| {
                 let mut v = Vec::with_capacity(((hi.x - lo.x) * (hi.y - lo.y)) as usize);
                 for y in lo.y..hi.y {
                     for x in lo.x..hi.x {
-                        v.push(pixels[index(bounds, IVec2::new(x, y))]);
+                        v.push(pixels[index(bounds, IVec2::new(x, y))].clone());
                     }
                 }
                 v
@@ -129,11 +148,12 @@ where
             break;
         }
         for ((lo, hi), acc) in tiles.iter().zip(tile_pixels) {
-            let mut k = 0;
+            let mut acc = acc.into_iter();
             for y in lo.y..hi.y {
                 for x in lo.x..hi.x {
-                    pixels[index(bounds, IVec2::new(x, y))] = acc[k];
-                    k += 1;
+                    if let Some(p) = acc.next() {
+                        pixels[index(bounds, IVec2::new(x, y))] = p;
+                    }
                 }
             }
         }
@@ -245,6 +265,7 @@ mod tests {
                 threads,
                 false,
                 &flag,
+                Pixel::default(),
                 || 0u64,
                 |calls, p, s, px| {
                     *calls += 1;
@@ -276,6 +297,7 @@ mod tests {
             2,
             false,
             &flag,
+            Pixel::default(),
             || (),
             |_, p, s, px| {
                 if s == 5 && p == IVec2::new(20, 20) {

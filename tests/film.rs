@@ -48,3 +48,105 @@ fn a_negative_white_balance_is_a_located_error() {
         "{error}"
     );
 }
+
+/// Every channel of an EXR file, by name (the image reader keeps R, G, B
+/// only).
+fn exr_channels(path: &std::path::Path) -> Vec<(String, Vec<f32>)> {
+    let image = exr::prelude::read_all_flat_layers_from_file(path).unwrap();
+    image.layer_data[0]
+        .channel_data
+        .list
+        .iter()
+        .map(|c| {
+            (
+                c.name.to_string(),
+                c.sample_data.values_as_f32().collect::<Vec<f32>>(),
+            )
+        })
+        .collect()
+}
+
+/// The spectral film's buckets hold each bucket's average radiance: a
+/// blackbody sky of 4000 K, normalised to luminance 1 as pbrt-v4 does
+/// for lights, measured against the spectrum integrated over each bucket.
+#[test]
+fn spectral_film_buckets_average_the_radiance_over_their_wavelengths() {
+    let dir = common::fresh_dir("film", "spectral");
+    let out = dir.join("sky.exr");
+    let scene = format!(
+        "Camera \"perspective\"\n\
+         Film \"spectral\" \"integer xresolution\" 8 \"integer yresolution\" 8 \
+         \"integer nbuckets\" 10 \"float lambdamin\" 400 \"float lambdamax\" 700 \
+         \"bool savefp16\" false \"string filename\" \"{}\"\n\
+         Sampler \"zsobol\" \"integer pixelsamples\" 256\nWorldBegin\n\
+         LightSource \"infinite\" \"blackbody L\" 4000\n",
+        out.display()
+    );
+    let path = dir.join("sky.pbrt");
+    std::fs::write(&path, scene).unwrap();
+    rpbrt::pipeline::render_file(&path, &Default::default(), 2, false).unwrap();
+    let channels = exr_channels(&out);
+    let names: Vec<&str> = channels.iter().map(|(n, _)| n.as_str()).collect();
+    // R, G, B and the ten buckets of 30 nm, centred on 415 … 685 nm
+    // (the reader sorts channels by name).
+    for expected in ["R", "G", "B", "S0.415,000nm", "S0.685,000nm"] {
+        assert!(names.contains(&expected), "{names:?}");
+    }
+    assert_eq!(names.len(), 13, "{names:?}");
+    let planck = |l: f32| rpbrt::spectrum::blackbody::blackbody(l, 4000.0) as f64;
+    // pbrt-v4 normalises the light to luminance 1: ∫ȳ B over 360–830 nm
+    // at whole nanometres, and the film multiplies by ∫ȳ.
+    let luminance: f64 = (360..=830)
+        .map(|l| rpbrt::spectrum::cie_y(l as f32) as f64 * planck(l as f32))
+        .sum();
+    let y_integral = rpbrt::spectrum::CIE_Y_INTEGRAL as f64;
+    for b in 0..10 {
+        let (lo, hi) = (400.0 + 30.0 * b as f64, 430.0 + 30.0 * b as f64);
+        let steps = 300;
+        let mean_b: f64 = (0..steps)
+            .map(|i| planck((lo + (hi - lo) * (i as f64 + 0.5) / steps as f64) as f32))
+            .sum::<f64>()
+            / steps as f64;
+        let expected = mean_b / luminance * y_integral;
+        let name = format!(
+            "S0.{}nm",
+            format!("{:.3}", (lo + hi) / 2.0).replace('.', ",")
+        );
+        let (_, values) = channels.iter().find(|(n, _)| *n == name).unwrap();
+        let got = values.iter().map(|&v| v as f64).sum::<f64>() / values.len() as f64;
+        assert!(
+            (got - expected).abs() < 0.01 * expected,
+            "{name}: {got} against {expected}"
+        );
+    }
+    let header = exr::meta::MetaData::read_from_file(&out, false).unwrap();
+    let attributes = &header.headers[0].own_attributes.other;
+    let text = |k: &str| {
+        attributes
+            .get(&exr::prelude::Text::from(k))
+            .map(|v| format!("{v:?}"))
+            .unwrap_or_default()
+    };
+    assert!(text("spectralLayoutVersion").contains("1.0"));
+    assert!(text("emissiveUnits").contains("W.m^-2.sr^-1"));
+}
+
+#[test]
+fn spectral_film_refuses_other_formats_and_ranges() {
+    for (params, expected) in [
+        ("\"string filename\" \"a.png\"", "EXR files only"),
+        ("\"float lambdamin\" 300", "wavelength range"),
+        ("\"integer nbuckets\" 0", "nbuckets"),
+    ] {
+        let scene = format!("Camera \"perspective\"\nFilm \"spectral\" {params}\nWorldBegin\n");
+        let loaded = rpbrt::scene::load_text(std::path::Path::new("s.pbrt"), &scene).unwrap();
+        let error = match rpbrt::scene::build::build(loaded.scene, &Default::default()) {
+            Ok(_) => panic!("should be refused: {params}"),
+            Err(e) => e.to_string(),
+        };
+        assert!(
+            error.contains("s.pbrt:2:") && error.contains(expected),
+            "{error}"
+        );
+    }
+}

@@ -1,4 +1,5 @@
-//! pbrt-v4's `rgb` film with the `cie1931` sensor.
+//! pbrt-v4's `rgb` film with the `cie1931` sensor, and the settings the
+//! `spectral` film shares with it (`spectral.rs` adds its buckets).
 //!
 //! | parameter | type | default | meaning |
 //! |---|---|---|---|
@@ -12,11 +13,14 @@
 //! | `sensor` | string | "cie1931" | sensor response |
 //! | `maxcomponentvalue` | float | ∞ | samples are scaled down so no RGB component exceeds it |
 //! | `diagonal` | float | 35 | film diagonal in mm (realistic camera only) |
+//!
+//! The `spectral` film's own parameters: see `spectral.rs`.
 
 use crate::error::{scene_error, Result};
 use crate::scene_description::Entity;
 
-use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum};
+use super::spectral::SpectralBuckets;
+use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum, LAMBDA_MAX, LAMBDA_MIN};
 use glam::{IVec2, Mat3, Vec2, Vec3};
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -40,6 +44,8 @@ pub struct RgbFilm {
     max_component_value: f32,
     /// Sensor XYZ → output colour space RGB.
     output_rgb_from_sensor: Mat3,
+    /// For the `spectral` film: its wavelength buckets.
+    pub spectral: Option<SpectralBuckets>,
 }
 
 impl RgbFilm {
@@ -57,10 +63,10 @@ impl RgbFilm {
     ) -> Result<Self> {
         let p = &entity.params;
         let loc = &entity.location.0;
-        if entity.kind != "rgb" {
+        if entity.kind != "rgb" && entity.kind != "spectral" {
             return scene_error(
                 format!(
-                    "film \"{}\" is not supported yet (supported: rgb)",
+                    "film \"{}\" is not supported yet (supported: rgb, spectral)",
                     entity.kind
                 ),
                 loc,
@@ -105,7 +111,12 @@ impl RgbFilm {
         let sensor = p.string("sensor", "cie1931")?;
         let max_component_value = p.float("maxcomponentvalue", f64::INFINITY)? as f32;
         p.float("diagonal", 35.0)?;
-        p.report_unused(|| "film \"rgb\"".into())?;
+        let spectral = if entity.kind == "spectral" {
+            Some(spectral_buckets(p, &filename, loc)?)
+        } else {
+            None
+        };
+        p.report_unused(|| format!("film \"{}\"", entity.kind))?;
         if sensor != "cie1931" {
             return scene_error(
                 format!("film sensor \"{sensor}\" is not supported yet (supported: cie1931)"),
@@ -138,7 +149,22 @@ impl RgbFilm {
             imaging_ratio: exposure_time * iso / 100.0,
             max_component_value,
             output_rgb_from_sensor,
+            spectral,
         })
+    }
+
+    /// `maxcomponentvalue`.
+    pub fn max_component_value(&self) -> f32 {
+        self.max_component_value
+    }
+
+    /// A sample's wavelengths from `u`: importance-sampled over the
+    /// visible range, or uniform over a spectral film's buckets.
+    pub fn sample_wavelengths(&self, u: f32) -> SampledWavelengths {
+        match &self.spectral {
+            None => SampledWavelengths::sample_visible(u),
+            Some(buckets) => buckets.sample_wavelengths(u),
+        }
     }
 
     /// Replaces the pixel bounds (`--pixelbounds`, `--cropwindow`).
@@ -198,6 +224,46 @@ impl RgbFilm {
         );
         self.output_rgb_from_sensor * sensor
     }
+}
+
+/// The `spectral` film's buckets (`nbuckets`, `lambdamin`, `lambdamax`),
+/// checked as pbrt-v4 does: an EXR file, a range within 360–830 nm.
+fn spectral_buckets(
+    p: &crate::scene_description::ParamSet,
+    filename: &std::path::Path,
+    loc: &pbrt_parser::Location,
+) -> Result<SpectralBuckets> {
+    let count = p.int("nbuckets", 16)?;
+    let lambda_min = p.float("lambdamin", LAMBDA_MIN as f64)? as f32;
+    let lambda_max = p.float("lambdamax", LAMBDA_MAX as f64)? as f32;
+    if !filename
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("exr"))
+    {
+        return scene_error(
+            format!(
+                "\"{}\": the spectral film writes EXR files only",
+                filename.display()
+            ),
+            loc,
+        );
+    }
+    if !(1..=1024).contains(&count) {
+        return scene_error(format!("\"nbuckets\" {count} must be 1 to 1024"), loc);
+    }
+    if !(lambda_min >= LAMBDA_MIN && lambda_max <= LAMBDA_MAX && lambda_min < lambda_max) {
+        return scene_error(
+            format!(
+                "wavelength range [{lambda_min}, {lambda_max}] nm must lie within [{LAMBDA_MIN}, {LAMBDA_MAX}] (as pbrt-v4's)"
+            ),
+            loc,
+        );
+    }
+    Ok(SpectralBuckets {
+        lambda_min,
+        lambda_max,
+        count: count as usize,
+    })
 }
 
 /// pbrt's crop window → pixel bounds: ceil of the scaled window.

@@ -185,6 +185,7 @@ pub(crate) fn write_exr(
     image: &Image,
     half: bool,
     window: Option<&DataWindow>,
+    text_attributes: &[(&str, &str)],
     path: &Path,
     writer: &mut (impl Write + Seek),
 ) -> Result<(), ImageError> {
@@ -213,6 +214,16 @@ pub(crate) fn write_exr(
         channels.push(AnyChannel::new(name_text, samples));
     }
     let mut attributes = LayerAttributes::default();
+    for (name, value) in text_attributes {
+        let text = |t: &str| {
+            Text::new_or_none(t)
+                .ok_or_else(|| unwritable(format!("attribute {t:?} is not valid in OpenEXR")))
+        };
+        attributes.other.insert(
+            text(name)?,
+            exr::meta::attribute::AttributeValue::Text(text(value)?),
+        );
+    }
     let mut display = IntegerBounds::from_dimensions((width, height));
     if let Some(window) = window {
         attributes.layer_position = Vec2(window.origin.0, window.origin.1);

@@ -99,11 +99,23 @@ impl Image {
         half: bool,
         window: Option<&DataWindow>,
     ) -> Result<(), ImageError> {
+        self.write_exr_with_attributes(path, half, window, &[])
+    }
+
+    /// [`Image::write_exr_in_window`], with text attributes (name, value)
+    /// in the file's header (such as a spectral image's layout version).
+    pub fn write_exr_with_attributes(
+        &self,
+        path: impl AsRef<Path>,
+        half: bool,
+        window: Option<&DataWindow>,
+        attributes: &[(&str, &str)],
+    ) -> Result<(), ImageError> {
         let path = path.as_ref();
         self.refuse_non_finite(path)?;
         let linear = self.to_linear();
         write_atomically(path, |writer| {
-            exr_file::write_exr(&linear, half, window, path, writer)
+            exr_file::write_exr(&linear, half, window, attributes, path, writer)
         })
     }
 

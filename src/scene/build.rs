@@ -485,7 +485,7 @@ pub fn build(mut description: SceneDescription, overrides: &RenderOverrides) -> 
         integrator.kind,
         IntegratorKind::LightPath | IntegratorKind::Bdpt
     ) {
-        check_light_tracing(scene, &camera, &lights, &instances)?;
+        check_light_tracing(scene, &camera, &film, &lights, &instances)?;
     }
     Ok(BuiltScene {
         camera,
@@ -1059,10 +1059,21 @@ fn dual_hair_width_warning(material: &Material, entity: &Entity) -> Result<Optio
 fn check_light_tracing(
     scene: &SceneDescription,
     camera: &Camera,
+    film: &RgbFilm,
     lights: &[Light],
     instances: &InstanceAccel,
 ) -> Result<()> {
     let e = &scene.integrator;
+    // Their splats are RGB only.
+    if film.spectral.is_some() {
+        return scene_error(
+            format!(
+                "integrator \"{}\" with the \"spectral\" film is not supported yet",
+                e.kind
+            ),
+            &e.location.0,
+        );
+    }
     // Light paths would need the camera ray's time, which they do not
     // carry yet.
     if instances.has_motion() || camera.transform().is_moving() {
