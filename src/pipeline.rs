@@ -2,6 +2,7 @@
 
 use crate::cameras::CameraSample;
 use crate::error::{Error, Result};
+use crate::film::gbuffer::{self, GBufferPixel};
 use crate::film::rgb::Pixel;
 use crate::film::spectral::SpectralPixel;
 use crate::film::splat::SplatBuffer;
@@ -11,6 +12,7 @@ use crate::image::pixel_format::count_beyond_half;
 use crate::image::{DataWindow, Image};
 use crate::integrators::bdpt::bdpt_li;
 use crate::integrators::light_path::trace_light_path;
+use crate::integrators::visible_surface::visible_surface;
 use crate::integrators::{li, RayCounts};
 use crate::render::{interrupt_flag, render, RenderOutcome};
 use crate::scene::build::{build, BuiltScene, IntegratorKind, RenderOverrides};
@@ -112,13 +114,27 @@ pub fn render_file(
         rays: &rays,
     };
     // The image: output RGB, then (spectral film) the buckets' radiance.
-    let (outcome, mut channels, data) = match &film.spectral {
-        None => {
+    let (outcome, mut channels, data) = match (&film.spectral, &film.gbuffer) {
+        (None, None) => {
             let outcome = sampling.sample_pixels(Pixel::default())?;
             let data = film_rgb(&built, &outcome, splats.as_ref());
             (outcome.without_pixels(), Vec::new(), data)
         }
-        Some(buckets) => {
+        (None, Some(_)) => {
+            let outcome = sampling.sample_pixels(GBufferPixel::default())?;
+            let rgb = film_rgb(&built, &outcome, splats.as_ref());
+            let mut data = Vec::with_capacity(outcome.pixels.len() * gbuffer::CHANNELS.len());
+            for (p, rgb) in outcome.pixels.iter().zip(rgb.chunks_exact(3)) {
+                data.extend_from_slice(rgb);
+                data.extend_from_slice(&p.values());
+            }
+            let names = gbuffer::CHANNELS[3..]
+                .iter()
+                .map(|c| c.to_string())
+                .collect();
+            (outcome.without_pixels(), names, data)
+        }
+        (Some(buckets), _) => {
             let outcome = sampling.sample_pixels(SpectralPixel::new(buckets))?;
             let rgb = film_rgb(&built, &outcome, splats.as_ref());
             let mut data = Vec::with_capacity(outcome.pixels.len() * (3 + buckets.count));
@@ -278,6 +294,11 @@ impl Sampling<'_> {
                 let Some(camera_ray) = built.camera.generate_ray(&sample, &lambda) else {
                     return;
                 };
+                let visible = if P::USES_VISIBLE_SURFACE {
+                    visible_surface(built, &camera_ray, &lambda)
+                } else {
+                    None
+                };
                 let mut l = match splats {
                     Some(splats) => bdpt_li(
                         built,
@@ -293,7 +314,7 @@ impl Sampling<'_> {
                     bad.fetch_add(1, Ordering::Relaxed);
                     l = crate::spectrum::SampledSpectrum::ZERO;
                 }
-                acc.add_sample(film, l, &lambda, sample.filter_weight);
+                acc.add_sample(film, l, &lambda, sample.filter_weight, visible.as_ref());
             },
         )
         .map_err(thread_pool_error)

@@ -150,3 +150,62 @@ fn spectral_film_refuses_other_formats_and_ranges() {
         );
     }
 }
+
+/// The `gbuffer` film's channels on a square seen head-on by an
+/// orthographic camera 3 units away: depth 3, the normal facing the
+/// camera (in camera and in world space), (u, v) running across the
+/// image, depth slopes zero, and the albedo of a diffuse reflectance of
+/// 0.5, lit white.
+#[test]
+fn gbuffer_film_records_what_the_camera_sees_first() {
+    for (system, normal) in [("camera", [0.0f32, 0.0, -1.0]), ("world", [0.0, 0.0, 1.0])] {
+        let dir = common::fresh_dir("film", &format!("gbuffer-{system}"));
+        let out = dir.join("g.exr");
+        let scene = format!(
+            "LookAt 0 0 3  0 0 0  0 1 0\n\
+             Camera \"orthographic\" \"float screenwindow\" [-1 1 -1 1]\n\
+             Film \"gbuffer\" \"integer xresolution\" 8 \"integer yresolution\" 8 \
+             \"bool savefp16\" false \"string coordinatesystem\" \"{system}\" \"string filename\" \"{}\"\n\
+             Sampler \"zsobol\" \"integer pixelsamples\" 64\nWorldBegin\n\
+             LightSource \"infinite\" \"rgb L\" [1 1 1]\n\
+             Material \"diffuse\" \"rgb reflectance\" [0.5 0.5 0.5]\n\
+             Shape \"bilinearmesh\" \"point3 P\" [-2 -2 0  2 -2 0  -2 2 0  2 2 0] \
+             \"integer indices\" [0 1 2 3] \"point2 uv\" [0 0 1 0 0 1 1 1]\n",
+            out.display()
+        );
+        let path = dir.join("g.pbrt");
+        std::fs::write(&path, scene).unwrap();
+        rpbrt::pipeline::render_file(&path, &Default::default(), 2, false).unwrap();
+        let channels = exr_channels(&out);
+        let get = |name: &str| &channels.iter().find(|(n, _)| n == name).unwrap().1;
+        assert_eq!(channels.len(), 25);
+        for (axis, expected) in ["N.X", "N.Y", "N.Z"].iter().zip(normal) {
+            assert!(
+                get(axis).iter().all(|v| (v - expected).abs() < 1e-5),
+                "{system} {axis}"
+            );
+        }
+        let depth = if system == "camera" { 3.0 } else { 0.0 };
+        assert!(
+            get("P.Z").iter().all(|z| (z - depth).abs() < 1e-4),
+            "{system} P.Z"
+        );
+        assert!(get("dzdx")
+            .iter()
+            .chain(get("dzdy"))
+            .all(|d| d.abs() < 1e-5));
+        // u = (x + 2) / 4 across the square; the pixel centres of the
+        // ends of a row are at world x = ±0.875 (the screen's +x is the
+        // world's −x for a camera looking down −z).
+        let u = get("u");
+        let (left, right) = (u[8 * 4], u[8 * 4 + 7]);
+        assert!(
+            (left - 2.875 / 4.0).abs() < 0.005 && (right - 1.125 / 4.0).abs() < 0.005,
+            "u {left} … {right}"
+        );
+        for c in ["Albedo.R", "Albedo.G", "Albedo.B"] {
+            let mean = get(c).iter().sum::<f32>() / 64.0;
+            assert!((mean - 0.5).abs() < 0.01, "{c}: {mean}");
+        }
+    }
+}

@@ -3,8 +3,10 @@
 //! [`RgbFilm`] holds the settings every film shares (resolution, bounds,
 //! sensor, output); a pixel's accumulator is a [`FilmPixel`]: RGB sums
 //! ([`rgb::Pixel`]) for the `rgb` film, RGB and wavelength buckets
-//! ([`spectral::SpectralPixel`]) for the `spectral` one.
+//! ([`spectral::SpectralPixel`]) for the `spectral` one, RGB and what the
+//! camera sees first ([`gbuffer::GBufferPixel`]) for the `gbuffer` one.
 
+pub mod gbuffer;
 pub mod rgb;
 pub mod spectral;
 pub mod splat;
@@ -12,15 +14,20 @@ pub mod splat;
 pub use rgb::RgbFilm;
 
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
+use gbuffer::VisibleSurface;
 
 /// What a film keeps per pixel, summing one filtered sample at a time.
 pub trait FilmPixel: Clone + Send + Sync {
+    /// Whether samples need the surface the camera ray sees first.
+    const USES_VISIBLE_SURFACE: bool = false;
+
     fn add_sample(
         &mut self,
         film: &RgbFilm,
         l: SampledSpectrum,
         lambda: &SampledWavelengths,
         weight: f32,
+        visible: Option<&VisibleSurface>,
     );
 
     /// The RGB sums.
@@ -34,6 +41,7 @@ impl FilmPixel for rgb::Pixel {
         l: SampledSpectrum,
         lambda: &SampledWavelengths,
         weight: f32,
+        _visible: Option<&VisibleSurface>,
     ) {
         film.add_sample(self, l, lambda, weight);
     }

@@ -14,12 +14,16 @@
 //! | `maxcomponentvalue` | float | ∞ | samples are scaled down so no RGB component exceeds it |
 //! | `diagonal` | float | 35 | film diagonal in mm (realistic camera only) |
 //!
-//! The `spectral` film's own parameters: see `spectral.rs`.
+//! The `spectral` and `gbuffer` films' own parameters: see `spectral.rs`
+//! and `gbuffer.rs`.
 
 use crate::error::{scene_error, Result};
 use crate::scene_description::Entity;
 
+use super::gbuffer::GBufferSpace;
 use super::spectral::SpectralBuckets;
+use crate::cameras::CameraTransform;
+use crate::spectrum::color_space::RgbColorSpace;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum, LAMBDA_MAX, LAMBDA_MIN};
 use glam::{IVec2, Mat3, Vec2, Vec3};
 use std::path::PathBuf;
@@ -46,6 +50,12 @@ pub struct RgbFilm {
     output_rgb_from_sensor: Mat3,
     /// For the `spectral` film: its wavelength buckets.
     pub spectral: Option<SpectralBuckets>,
+    /// For the `gbuffer` film: the space its geometry is written in
+    /// (`coordinatesystem`), set once the camera is made
+    /// ([`RgbFilm::place_gbuffer`]).
+    gbuffer_in_world: Option<bool>,
+    pub gbuffer: Option<GBufferSpace>,
+    color_space: &'static RgbColorSpace,
 }
 
 impl RgbFilm {
@@ -63,10 +73,10 @@ impl RgbFilm {
     ) -> Result<Self> {
         let p = &entity.params;
         let loc = &entity.location.0;
-        if entity.kind != "rgb" && entity.kind != "spectral" {
+        if !matches!(entity.kind.as_str(), "rgb" | "spectral" | "gbuffer") {
             return scene_error(
                 format!(
-                    "film \"{}\" is not supported yet (supported: rgb, spectral)",
+                    "film \"{}\" is not supported yet (supported: rgb, spectral, gbuffer)",
                     entity.kind
                 ),
                 loc,
@@ -116,6 +126,21 @@ impl RgbFilm {
         } else {
             None
         };
+        let gbuffer_in_world = if entity.kind == "gbuffer" {
+            require_exr(&filename, "gbuffer", loc)?;
+            match p.string("coordinatesystem", "camera")?.as_str() {
+                "camera" => Some(false),
+                "world" => Some(true),
+                other => {
+                    return scene_error(
+                        format!("unknown \"coordinatesystem\" \"{other}\" (expected \"camera\" or \"world\")"),
+                        loc,
+                    )
+                }
+            }
+        } else {
+            None
+        };
         p.report_unused(|| format!("film \"{}\"", entity.kind))?;
         if sensor != "cie1931" {
             return scene_error(
@@ -150,7 +175,34 @@ impl RgbFilm {
             max_component_value,
             output_rgb_from_sensor,
             spectral,
+            gbuffer_in_world,
+            gbuffer: None,
+            color_space,
         })
+    }
+
+    /// Sets a `gbuffer` film's output space from the camera's: camera
+    /// space (pbrt-v4's default) or world space.
+    pub fn place_gbuffer(&mut self, camera: &CameraTransform) {
+        self.gbuffer = self.gbuffer_in_world.map(|in_world| {
+            let (output_from_render, render_from_output) = if in_world {
+                let render_from_world = camera.render_from_world.to_mat4();
+                (render_from_world.inverse(), render_from_world)
+            } else {
+                (camera.camera_from_render, camera.render_from_camera)
+            };
+            GBufferSpace {
+                output_from_render,
+                normal_output_from_render: Mat3::from_mat4(render_from_output).transpose(),
+            }
+        });
+    }
+
+    /// A reflectance lit by the colour space's white, in the colour
+    /// space's RGB (the g-buffer's albedo).
+    pub fn albedo_rgb(&self, albedo: SampledSpectrum, lambda: &SampledWavelengths) -> Vec3 {
+        let lit = albedo * self.color_space.illuminant.sample(lambda);
+        self.color_space.rgb_from_xyz * lit.to_xyz(lambda)
     }
 
     /// `maxcomponentvalue`.
@@ -236,18 +288,7 @@ fn spectral_buckets(
     let count = p.int("nbuckets", 16)?;
     let lambda_min = p.float("lambdamin", LAMBDA_MIN as f64)? as f32;
     let lambda_max = p.float("lambdamax", LAMBDA_MAX as f64)? as f32;
-    if !filename
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("exr"))
-    {
-        return scene_error(
-            format!(
-                "\"{}\": the spectral film writes EXR files only",
-                filename.display()
-            ),
-            loc,
-        );
-    }
+    require_exr(filename, "spectral", loc)?;
     if !(1..=1024).contains(&count) {
         return scene_error(format!("\"nbuckets\" {count} must be 1 to 1024"), loc);
     }
@@ -264,6 +305,23 @@ fn spectral_buckets(
         lambda_max,
         count: count as usize,
     })
+}
+
+/// The `spectral` and `gbuffer` films write EXR files only, as pbrt-v4's.
+fn require_exr(filename: &std::path::Path, kind: &str, loc: &pbrt_parser::Location) -> Result<()> {
+    if filename
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("exr"))
+    {
+        return Ok(());
+    }
+    scene_error(
+        format!(
+            "\"{}\": the {kind} film writes EXR files only",
+            filename.display()
+        ),
+        loc,
+    )
 }
 
 /// pbrt's crop window → pixel bounds: ceil of the scaled window.

@@ -17,6 +17,7 @@
 //!
 //! and every parameter of the `rgb` film; the file name must end in `.exr`.
 
+use super::gbuffer::VisibleSurface;
 use super::rgb::{Pixel, RgbFilm};
 use super::FilmPixel;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, CIE_Y_INTEGRAL, N_SPECTRUM_SAMPLES};
@@ -89,6 +90,7 @@ impl FilmPixel for SpectralPixel {
         l: SampledSpectrum,
         lambda: &SampledWavelengths,
         weight: f32,
+        _visible: Option<&VisibleSurface>,
     ) {
         film.add_sample(&mut self.rgb, l, lambda, weight);
         let Some(buckets) = film.spectral else {

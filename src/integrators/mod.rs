@@ -10,6 +10,7 @@ pub mod ray_counts;
 mod simple_path;
 pub mod simple_vol_path;
 mod surface_hit;
+pub mod visible_surface;
 pub mod volpath;
 
 pub use path::path_li;

@@ -585,6 +585,7 @@ fn create_view(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<
     }
     let camera = Camera::create(&scene.camera, film.full_resolution)?
         .with_pixel_jitter(!scene.options.disable_pixel_jitter);
+    film.place_gbuffer(camera.transform());
 
     let seed = overrides.seed.unwrap_or(scene.options.seed);
     let spp = if overrides.quick {
