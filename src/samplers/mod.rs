@@ -1,6 +1,7 @@
 //! Samplers: the per-pixel-sample streams of [0, 1) values a renderer turns
 //! into film positions, lens positions, wavelengths, light and BSDF
-//! choices. Each mirrors a pbrt-v4 sampler value for value: what a sampler
+//! choices. Each mirrors a pbrt-v4 sampler value for value (but `pmj02bn`,
+//! whose tables rpbrt does not ship: see its file): what a sampler
 //! returns depends only on (pixel, sample index, dimension, seed), never on
 //! threads or rendering order, so a sampler is cloned per thread.
 //!
@@ -32,6 +33,7 @@
 //! | `paddedsobol`    | like `get_2d`                                   | from the start dimension, no limit      |
 //! | `independent`    | like `get_2d`                                   | from the start dimension                |
 //! | `stratified`     | like `get_2d`                                   | from the start dimension                |
+//! | `pmj02bn`        | like `get_2d`                                   | from the start dimension, no limit      |
 //!
 //! So for `halton` and `sobol` the wavelength is dimension 2, the time 3
 //! and the lens 4–5; for the others the wavelength is dimension 0, the film
@@ -44,6 +46,7 @@ mod halton;
 mod independent;
 mod padded_sobol;
 mod permutation;
+mod pmj02bn;
 mod primes;
 mod radical_inverse;
 mod randomize_strategy;
@@ -59,6 +62,7 @@ pub use halton::HaltonSampler;
 pub use independent::IndependentSampler;
 pub use padded_sobol::PaddedSobolSampler;
 pub use permutation::permutation_element;
+pub use pmj02bn::Pmj02bnSampler;
 pub use randomize_strategy::RandomizeStrategy;
 pub use sobol::SobolSampler;
 pub use sobol_matrices::SOBOL_DIMENSIONS;
@@ -73,7 +77,7 @@ use glam::{IVec2, Vec2};
 /// stops at 2^25; the others index pixels in 32-bit integers).
 const MAX_RESOLUTION: i32 = 1 << 25;
 
-/// A sampler of any pbrt-v4 type. `"pmj02bn"` is not supported yet.
+/// A sampler of any pbrt-v4 type.
 #[derive(Clone, Debug)]
 pub enum Sampler {
     Independent(IndependentSampler),
@@ -82,6 +86,7 @@ pub enum Sampler {
     Sobol(SobolSampler),
     PaddedSobol(PaddedSobolSampler),
     ZSobol(ZSobolSampler),
+    Pmj02bn(Pmj02bnSampler),
 }
 
 /// Dispatches a method call to the sampler inside.
@@ -94,6 +99,7 @@ macro_rules! dispatch {
             Sampler::Sobol($s) => $call,
             Sampler::PaddedSobol($s) => $call,
             Sampler::ZSobol($s) => $call,
+            Sampler::Pmj02bn($s) => $call,
         }
     };
 }
@@ -220,7 +226,9 @@ impl Sampler {
                 ))
             }
             "pmj02bn" => {
-                return scene_error("sampler \"pmj02bn\" is not supported yet", location);
+                let samples = pixel_samples(16)?;
+                let seed = params.int("seed", seed)?;
+                Sampler::Pmj02bn(Pmj02bnSampler::new(samples, seed))
             }
             other => return scene_error(format!("\"{other}\": sampler type unknown"), location),
         };
@@ -265,6 +273,7 @@ impl Sampler {
             Sampler::Sobol(s) => s.skip(count),
             Sampler::PaddedSobol(s) => s.skip(count),
             Sampler::ZSobol(s) => s.skip(count),
+            Sampler::Pmj02bn(s) => s.skip(count),
             Sampler::Independent(_) | Sampler::Stratified(_) => {
                 if count == 1 {
                     self.get_1d();

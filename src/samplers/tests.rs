@@ -38,6 +38,7 @@ const ALL: &[&str] = &[
     "Sampler \"zsobol\" \"string randomization\" \"owen\"",
     "Sampler \"zsobol\" \"string randomization\" \"permutedigits\"",
     "Sampler \"zsobol\" \"string randomization\" \"none\"",
+    "Sampler \"pmj02bn\"",
 ];
 
 const RESOLUTION: IVec2 = IVec2::new(40, 30);
@@ -148,6 +149,7 @@ fn film_positions_of_sixteen_samples_are_one_per_four_by_four_cell() {
         "Sampler \"zsobol\" \"string randomization\" \"none\"",
         "Sampler \"paddedsobol\"",
         "Sampler \"stratified\"",
+        "Sampler \"pmj02bn\"",
     ] {
         let mut sampler = make(text, 7, RESOLUTION);
         assert_eq!(sampler.samples_per_pixel(), 16);
@@ -246,6 +248,7 @@ fn low_discrepancy_estimates_converge_faster_than_independent_ones() {
         "Sampler \"zsobol\" \"integer pixelsamples\" 64",
         "Sampler \"zsobol\" \"integer pixelsamples\" 64 \"string randomization\" \"permutedigits\"",
         "Sampler \"paddedsobol\" \"integer pixelsamples\" 64",
+        "Sampler \"pmj02bn\" \"integer pixelsamples\" 64",
         "Sampler \"stratified\" \"integer xsamples\" 8 \"integer ysamples\" 8",
     ] {
         let rms = rms_error_of_x_squared(text);
@@ -312,7 +315,7 @@ fn bad_sampler_descriptions_are_scene_errors() {
             Err(e) => e.to_string(),
         }
     };
-    assert!(error("Sampler \"pmj02bn\"").contains("sampler \"pmj02bn\" is not supported yet"));
+    assert!(error("Sampler \"pmj02bn\" \"integer pixelsamples\" 0").contains("at least 1"));
     assert!(
         error("Sampler \"halton\" \"string randomization\" \"fastowen\"").contains("not supported")
     );
