@@ -18,11 +18,10 @@
 
 use super::ray_counts::RayCounts;
 use super::surface_hit::emitted;
+use super::volpath::{choose_collision, majorant_rng, Collision};
 use crate::bxdfs::HenyeyGreenstein;
 use crate::cameras::CameraRay;
 use crate::materials::Material;
-use crate::math::hash::hash_floats;
-use crate::math::pcg32::Pcg32;
 use crate::math::Ray;
 use crate::media::sample_t_maj;
 use crate::samplers::Sampler;
@@ -60,9 +59,7 @@ pub fn simple_vol_path_li(
         let hit = scene.intersect(&ray, f32::INFINITY);
         let mut event = Event::Passed;
         if let Some(m) = medium {
-            let h0 = hash_floats(&[sampler.get_1d()]);
-            let h1 = hash_floats(&[sampler.get_1d()]);
-            let mut rng = Pcg32::new_with_seed(h0, h1);
+            let mut rng = majorant_rng(sampler);
             let t_max = hit.as_ref().map_or(f32::INFINITY, |(si, _)| si.t);
             let u = sampler.get_1d();
             let mut u_mode = sampler.get_1d();
@@ -73,16 +70,13 @@ pub fn simple_vol_path_li(
                 u,
                 &mut rng,
                 lambda,
-                |rng, p, mp, sigma_maj, _t_maj| {
-                    let p_absorb = mp.sigma_a[0] / sigma_maj[0];
-                    let p_scatter = mp.sigma_s[0] / sigma_maj[0];
-                    let p_null = (1.0 - p_absorb - p_scatter).max(0.0);
-                    let up = u_mode * (p_absorb + p_scatter + p_null);
-                    if up < p_absorb {
+                |rng, p, mp, sigma_maj, _t_maj| match choose_collision(mp, sigma_maj, u_mode) {
+                    Collision::Absorb => {
                         l += mp.le * beta;
                         event = Event::Absorbed;
                         false
-                    } else if up < p_absorb + p_scatter {
+                    }
+                    Collision::Scatter => {
                         if depth >= max_depth {
                             event = Event::Absorbed;
                             return false;
@@ -98,7 +92,8 @@ pub fn simple_vol_path_li(
                             _ => Event::Absorbed,
                         };
                         false
-                    } else {
+                    }
+                    Collision::Null => {
                         u_mode = rng.uniform_f32();
                         true
                     }

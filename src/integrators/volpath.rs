@@ -78,13 +78,17 @@ fn medium_context(p: Vec3, time: f32) -> LightSampleContext {
 
 /// The event a tentative collision is, chosen in proportion to σa, σs and
 /// σn at the first wavelength (pbrt-v4's `SampleDiscrete` over the three).
-enum Collision {
+pub(super) enum Collision {
     Absorb,
     Scatter,
     Null,
 }
 
-fn choose_collision(mp: &MediumProperties, sigma_maj: SampledSpectrum, u: f32) -> Collision {
+pub(super) fn choose_collision(
+    mp: &MediumProperties,
+    sigma_maj: SampledSpectrum,
+    u: f32,
+) -> Collision {
     let p_absorb = mp.sigma_a[0] / sigma_maj[0];
     let p_scatter = mp.sigma_s[0] / sigma_maj[0];
     let p_null = (1.0 - p_absorb - p_scatter).max(0.0);
@@ -96,6 +100,14 @@ fn choose_collision(mp: &MediumProperties, sigma_maj: SampledSpectrum, u: f32) -
     } else {
         Collision::Null
     }
+}
+
+/// The random stream of a ray's tentative collisions, seeded by two of
+/// the sampler's numbers (as pbrt-v4 seeds it).
+pub(super) fn majorant_rng(sampler: &mut Sampler) -> Pcg32 {
+    let h0 = hash_floats(&[sampler.get_1d()]);
+    let h1 = hash_floats(&[sampler.get_1d()]);
+    Pcg32::new_with_seed(h0, h1)
 }
 
 /// Radiance arriving along the camera ray at the path's wavelengths, in
@@ -130,9 +142,7 @@ pub fn volpath_li(
             let mut scattered: Option<Ray> = None;
             let mut terminated = false;
             let t_max = hit.as_ref().map_or(f32::INFINITY, |(si, _)| si.t);
-            let h0 = hash_floats(&[sampler.get_1d()]);
-            let h1 = hash_floats(&[sampler.get_1d()]);
-            let mut rng = Pcg32::new_with_seed(h0, h1);
+            let mut rng = majorant_rng(sampler);
             let u = sampler.get_1d();
             let t_maj = sample_t_maj(
                 &scene.media[m as usize],
