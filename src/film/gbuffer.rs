@@ -16,32 +16,10 @@
 //! and every parameter of the `rgb` film; the file name must end in `.exr`.
 
 use super::rgb::{Pixel, RgbFilm};
+use super::visible_surface::VisibleSurface;
 use super::FilmPixel;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
-use glam::{DVec2, DVec3, Mat3, Mat4, Vec2, Vec3};
-
-/// What a camera ray sees first (pbrt-v4's `VisibleSurface`), in render
-/// space.
-#[derive(Clone, Copy, Debug)]
-pub struct VisibleSurface {
-    pub p: Vec3,
-    pub n: Vec3,
-    pub ns: Vec3,
-    pub uv: Vec2,
-    /// ∂p/∂x and ∂p/∂y: how far the point moves per pixel.
-    pub dpdx: Vec3,
-    pub dpdy: Vec3,
-    /// The BSDF's reflectance for the camera's direction, estimated.
-    pub albedo: SampledSpectrum,
-}
-
-/// Where the g-buffer's geometry is written: the output space from render
-/// space, for points and for normals (inverse transpose).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct GBufferSpace {
-    pub output_from_render: Mat4,
-    pub normal_output_from_render: Mat3,
-}
+use glam::{DVec2, DVec3, Vec3};
 
 /// Welford's running mean and variance (pbrt-v4's `VarianceEstimator`).
 #[derive(Clone, Copy, Debug, Default)]

@@ -9,12 +9,14 @@
 pub mod gbuffer;
 pub mod rgb;
 pub mod spectral;
+pub mod spectral_buckets;
 pub mod splat;
+pub mod visible_surface;
 
 pub use rgb::RgbFilm;
 
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
-use gbuffer::VisibleSurface;
+use visible_surface::VisibleSurface;
 
 /// What a film keeps per pixel, summing one filtered sample at a time.
 pub trait FilmPixel: Clone + Send + Sync {

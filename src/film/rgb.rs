@@ -20,8 +20,8 @@
 use crate::error::{scene_error, Result};
 use crate::scene_description::Entity;
 
-use super::gbuffer::GBufferSpace;
-use super::spectral::SpectralBuckets;
+use super::spectral_buckets::SpectralBuckets;
+use super::visible_surface::GBufferSpace;
 use crate::cameras::CameraTransform;
 use crate::spectrum::color_space::RgbColorSpace;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths, Spectrum, LAMBDA_MAX, LAMBDA_MIN};

@@ -12,7 +12,7 @@
 use super::surface_hit::texture_context;
 use crate::bxdfs::{BxDFReflTransFlags, TransportMode};
 use crate::cameras::CameraRay;
-use crate::film::gbuffer::VisibleSurface;
+use crate::film::visible_surface::VisibleSurface;
 use crate::scene::build::BuiltScene;
 use crate::spectrum::{SampledSpectrum, SampledWavelengths};
 use glam::Vec2;
