@@ -23,16 +23,13 @@ fn bsdf_at(
     origin: glam::Vec3,
 ) -> (rpbrt::interaction::SurfaceInteraction, rpbrt::bxdfs::BSDF) {
     let ray = rpbrt::math::ray::Ray::new(origin, glam::Vec3::Z, 0.0);
-    let (si, prim) = scene
+    let (mut si, prim) = scene
         .intersect(&ray, f32::INFINITY)
         .expect("the ray hits the curve");
     let mut lambda = rpbrt::spectrum::SampledWavelengths::sample_visible(0.3);
+    let ctx = rpbrt::textures::TextureEvalContext::at(&si);
     let bsdf = scene.materials[prim.material as usize]
-        .bsdf(
-            &si,
-            &rpbrt::textures::TextureEvalContext::at(&si),
-            &mut lambda,
-        )
+        .bsdf(&mut si, &ctx, &mut lambda)
         .expect("a BSDF");
     (si, bsdf)
 }

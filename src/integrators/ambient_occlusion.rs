@@ -39,7 +39,7 @@ pub fn ambient_occlusion_li(
         si.wo = -ray.direction.normalize();
         let ctx = texture_context(scene, camera_ray, &si, true);
         let material = &scene.materials[prim.material as usize];
-        if material.bsdf(&si, &ctx, lambda).is_none() {
+        if material.bsdf(&mut si, &ctx, lambda).is_none() {
             // An interface: look through it.
             ray = si.spawn_ray(ray.direction);
             continue;

@@ -96,9 +96,11 @@ fn ring_at(
         return None;
     }
     let mut lambda = *lambda;
-    material
-        .bsdf(si, &TextureEvalContext::at(si), &mut lambda)?
-        .diffracting_ring()
+    // A copy: the caller's hit keeps its shading geometry (a hair
+    // material has no bump map to change it anyway).
+    let mut si = *si;
+    let ctx = TextureEvalContext::at(&si);
+    material.bsdf(&mut si, &ctx, &mut lambda)?.diffracting_ring()
 }
 
 /// The part of `v` across the fibre of tangent `t`.

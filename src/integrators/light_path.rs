@@ -120,7 +120,7 @@ pub fn trace_light_path(
         };
         si.wo = -ray.direction.normalize();
         let ctx = TextureEvalContext::at(&si);
-        let Some(bsdf) = scene.materials[prim.material as usize].bsdf(&si, &ctx, lambda) else {
+        let Some(bsdf) = scene.materials[prim.material as usize].bsdf(&mut si, &ctx, lambda) else {
             // An interface: on through it, not counted as a bounce.
             ray = si.spawn_ray(ray.direction);
             continue;

@@ -158,7 +158,7 @@ pub fn path_li(
         } else {
             TextureEvalContext::at(&si)
         };
-        let Some(mut bsdf) = material.bsdf(&si, &ctx, lambda) else {
+        let Some(mut bsdf) = material.bsdf(&mut si, &ctx, lambda) else {
             // Interface: continue through the surface without counting a
             // bounce.
             specular_bounce = true;

@@ -44,7 +44,7 @@ pub fn random_walk_li(
             return l;
         }
         let ctx = texture_context(scene, camera_ray, &si, from_camera);
-        let Some(bsdf) = scene.materials[prim.material as usize].bsdf(&si, &ctx, lambda) else {
+        let Some(bsdf) = scene.materials[prim.material as usize].bsdf(&mut si, &ctx, lambda) else {
             // An interface: go on through it at the same depth.
             ray = si.spawn_ray(ray.direction);
             continue;

@@ -61,7 +61,7 @@ pub fn simple_path_li(
         }
         depth += 1;
         let ctx = texture_context(scene, camera_ray, &si, from_camera);
-        let Some(bsdf) = scene.materials[prim.material as usize].bsdf(&si, &ctx, lambda) else {
+        let Some(bsdf) = scene.materials[prim.material as usize].bsdf(&mut si, &ctx, lambda) else {
             // An interface: on through it, as after a specular bounce (it
             // counts towards the depth, as in pbrt-v4's simple tracer).
             specular_bounce = true;

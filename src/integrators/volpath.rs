@@ -273,7 +273,7 @@ pub fn volpath_li(
         } else {
             TextureEvalContext::at(&si)
         };
-        let Some(mut bsdf) = material.bsdf(&si, &ctx, lambda) else {
+        let Some(mut bsdf) = material.bsdf(&mut si, &ctx, lambda) else {
             // A medium boundary: continue through it, into the medium on
             // its far side, without counting a bounce.
             medium = medium_after(prim, ray.direction, si.n, medium);

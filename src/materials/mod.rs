@@ -14,6 +14,10 @@
 //! | `hair` (dual model) | `ellipse_a`, `ellipse_b`, `d_diff`, `ellipse_orientation`, `diffraction`, `variant`, `internal_fresnel`, `fresnel`, `residual`: see [`dual_hair`] |
 //! | `interface` | none: marks a boundary between media; rays pass through |
 //!
+//! All but `interface`, `hair` and `mix` also take `displacement` (a bump
+//! map) and `normalmap` (a normal map): see [`shading_normal`]; such a
+//! material is wrapped in [`Material::Bumped`].
+//!
 //! Under `Option "forcediffuse" true` every material but `interface` is
 //! wrapped in [`Material::ForceDiffuse`] ([`force_diffuse`]).
 
@@ -32,11 +36,16 @@ use crate::spectrum::{named_spectrum, SampledSpectrum, SampledWavelengths, Spect
 use crate::textures::{
     FloatTexture, NamedTextures, SpectrumTexture, TextureEvalContext, TextureParams,
 };
+use normal_map::NormalMapCache;
+use shading_normal::{Bumped, ShadingNormal};
 use std::path::Path;
 
+pub mod bump_map;
 pub mod dual_hair;
 pub mod force_diffuse;
 pub mod mix;
+pub mod normal_map;
+pub mod shading_normal;
 
 /// Roughness given as (u, v) textures, remapped to α or not.
 #[derive(Clone, Debug)]
@@ -136,6 +145,9 @@ pub enum Material {
     /// material makes them (a dual hair fibre keeps its widened curve and
     /// its orientation), but no BSDF has a diffracting ring.
     ForceDiffuse(Box<Material>),
+    /// A material whose shading normal comes from a bump or normal map
+    /// ([`shading_normal`]).
+    Bumped(Box<Bumped>),
 }
 
 /// A dielectric coating over a conductor (pbrt-v4's `coatedconductor`).
@@ -237,6 +249,7 @@ impl Material {
     pub fn curve_width_scale(&self) -> f32 {
         match self {
             Material::ForceDiffuse(inner) => inner.curve_width_scale(),
+            Material::Bumped(bumped) => bumped.material.curve_width_scale(),
             Material::Hair {
                 dual: Some((params, _)),
                 ..
@@ -261,6 +274,7 @@ impl Material {
     pub fn axis_frame(&self) -> Option<&dual_hair::AxisFrame> {
         match self {
             Material::ForceDiffuse(inner) => inner.axis_frame(),
+            Material::Bumped(bumped) => bumped.material.axis_frame(),
             Material::Hair { axis_frame, .. } if self.needs_fibre_frame() => Some(axis_frame),
             _ => None,
         }
@@ -300,6 +314,7 @@ impl Material {
             Material::Mix(m) => m.materials().iter().any(Material::can_be_specular),
             Material::ThinDielectric { .. } => true,
             Material::ForceDiffuse(_) => false,
+            Material::Bumped(bumped) => bumped.material.can_be_specular(),
             _ => false,
         }
     }
@@ -308,16 +323,22 @@ impl Material {
     /// (`SurfaceInteraction::fibre_reference`): an elliptical fibre of the
     /// dual hair model is oriented by it.
     pub fn needs_fibre_frame(&self) -> bool {
-        if let Material::ForceDiffuse(inner) = self {
-            return inner.needs_fibre_frame();
+        match self {
+            Material::ForceDiffuse(inner) => return inner.needs_fibre_frame(),
+            Material::Bumped(bumped) => return bumped.material.needs_fibre_frame(),
+            _ => {}
         }
         matches!(self, Material::Hair { dual: Some((params, _)), .. } if params.ellipse.a != params.ellipse.b)
     }
 
+    /// The material `entity` describes, its textures from `textures` and
+    /// its files relative to `base_directory`; normal map images are
+    /// shared through `normal_maps`.
     pub fn create(
         entity: &Entity,
         textures: &NamedTextures,
         base_directory: &Path,
+        normal_maps: &mut NormalMapCache,
     ) -> Result<Material> {
         let tp = TextureParams {
             params: &entity.params,
@@ -327,28 +348,14 @@ impl Material {
         };
         let p = &entity.params;
         let loc = &entity.location.0;
-        if p.find(
-            "displacement",
-            &[
-                pbrt_parser::ParamType::Float,
-                pbrt_parser::ParamType::Texture,
-            ],
-        )?
-        .is_some()
-        {
-            return scene_error(
-                "a material's \"displacement\" texture (bump mapping) is not supported yet",
-                loc,
-            );
-        }
-        if p.find("normalmap", &[pbrt_parser::ParamType::String])?
-            .is_some()
-        {
-            return scene_error(
-                "a material's \"normalmap\" (normal mapping) is not supported yet",
-                loc,
-            );
-        }
+        // pbrt-v4 reads every material's normal map file, also where the
+        // material then takes none.
+        let normal_map = match p.string_at("normalmap")? {
+            Some((name, at)) if !name.is_empty() => Some(
+                normal_maps.get(&pbrt_parser::resolve_path(base_directory, &name), &at)?,
+            ),
+            _ => None,
+        };
         p.string("type", "")?;
         let m = match entity.kind.as_str() {
             "interface" | "" | "none" => Material::Interface,
@@ -504,6 +511,22 @@ impl Material {
             }
             other => return scene_error(format!("material \"{other}\" is not supported yet"), loc),
         };
+        let takes_maps = !matches!(
+            m,
+            Material::Interface | Material::Hair { .. } | Material::Mix(_)
+        );
+        let m = if takes_maps {
+            let displacement = tp.float_texture_opt("displacement")?;
+            match ShadingNormal::choose(normal_map, displacement) {
+                Some(shading_normal) => Material::Bumped(Box::new(Bumped {
+                    shading_normal,
+                    material: m,
+                })),
+                None => m,
+            }
+        } else {
+            m
+        };
         p.report_unused(|| format!("material \"{}\"", entity.kind))?;
         Ok(m)
     }
@@ -520,10 +543,11 @@ impl Material {
     /// The BSDF at `si`, its textures evaluated in `ctx` (which carries
     /// the hit's screen-space differentials); `None` for `interface` (the
     /// ray continues). Dispersive materials terminate the secondary
-    /// wavelengths.
+    /// wavelengths. A bump or normal map changes the shading geometry of
+    /// `si` first (as pbrt-v4 does), so the caller sees the mapped normal.
     pub fn bsdf(
         &self,
-        si: &SurfaceInteraction,
+        si: &mut SurfaceInteraction,
         ctx: &TextureEvalContext,
         lambda: &mut SampledWavelengths,
     ) -> Option<BSDF> {
@@ -531,6 +555,10 @@ impl Material {
         let bxdf = match self {
             Material::Interface => return None,
             Material::Mix(m) => return m.choose(si, ctx).bsdf(si, ctx, lambda),
+            Material::Bumped(bumped) => {
+                bumped.shading_normal.apply(si, ctx);
+                return bumped.material.bsdf(si, ctx, lambda);
+            }
             Material::CoatedConductor(c) => {
                 // As pbrt-v4: the conductor's η and k relative to the
                 // coating's η (an η of 0 read as 1).

@@ -665,14 +665,15 @@ fn create_materials<'s>(
     textures: &NamedTextures,
 ) -> Result<(Vec<Material>, HashMap<&'s str, u32>)> {
     let base = &scene.base_directory;
+    let mut normal_maps = crate::materials::normal_map::NormalMapCache::default();
     let mut materials = Vec::new();
     for m in &scene.materials {
-        materials.push(Material::create(m, textures, base)?);
+        materials.push(Material::create(m, textures, base, &mut normal_maps)?);
     }
     let mut named_index = HashMap::new();
     for (name, m) in &scene.named_materials {
         named_index.insert(name.as_str(), materials.len() as u32);
-        materials.push(Material::create(m, textures, base)?);
+        materials.push(Material::create(m, textures, base, &mut normal_maps)?);
     }
     crate::materials::mix::resolve(&mut materials, &named_index)?;
     if scene.options.force_diffuse {

@@ -143,6 +143,7 @@ mod tests {
         let text = format!("Camera \"perspective\"\nWorldBegin\n{world}");
         let loaded = load_text(Path::new("w.pbrt"), &text).unwrap();
         let scene = &loaded.scene;
+        let mut normal_maps = crate::materials::normal_map::NormalMapCache::default();
         let materials: Vec<Material> = scene
             .materials
             .iter()
@@ -152,6 +153,7 @@ mod tests {
                     m,
                     &crate::textures::NamedTextures::default(),
                     Path::new("."),
+                    &mut normal_maps,
                 )
                 .unwrap()
             })
