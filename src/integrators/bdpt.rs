@@ -249,7 +249,8 @@ fn random_walk(
         };
         si.wo = -ray.direction.normalize();
         let ctx = texture_context(scene, cx.camera_ray, &si, from_camera);
-        let Some(mut bsdf) = scene.materials[prim.material as usize].bsdf(&mut si, &ctx, lambda) else {
+        let Some(mut bsdf) = scene.materials[prim.material as usize].bsdf(&mut si, &ctx, lambda)
+        else {
             ray = si.spawn_ray(ray.direction);
             continue;
         };

@@ -100,7 +100,9 @@ fn ring_at(
     // material has no bump map to change it anyway).
     let mut si = *si;
     let ctx = TextureEvalContext::at(&si);
-    material.bsdf(&mut si, &ctx, &mut lambda)?.diffracting_ring()
+    material
+        .bsdf(&mut si, &ctx, &mut lambda)?
+        .diffracting_ring()
 }
 
 /// The part of `v` across the fibre of tangent `t`.

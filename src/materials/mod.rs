@@ -351,9 +351,9 @@ impl Material {
         // pbrt-v4 reads every material's normal map file, also where the
         // material then takes none.
         let normal_map = match p.string_at("normalmap")? {
-            Some((name, at)) if !name.is_empty() => Some(
-                normal_maps.get(&pbrt_parser::resolve_path(base_directory, &name), &at)?,
-            ),
+            Some((name, at)) if !name.is_empty() => {
+                Some(normal_maps.get(&pbrt_parser::resolve_path(base_directory, &name), &at)?)
+            }
             _ => None,
         };
         p.string("type", "")?;
