@@ -264,10 +264,15 @@ fn simple_vol_path_refuses_delta_lights_and_scattering_surfaces() {
             "{error}"
         );
     }
-    // A black diffuse surface is allowed: it ends paths.
-    let text = format!(
-        "{head}LightSource \"infinite\"\nMaterial \"diffuse\" \"rgb reflectance\" [0 0 0]\nShape \"sphere\"\n"
-    );
-    let loaded = rpbrt::scene::load_text(std::path::Path::new("s.pbrt"), &text).unwrap();
-    assert!(rpbrt::scene::build::build(loaded.scene, &Default::default()).is_ok());
+    // A black diffuse surface is allowed: it ends paths; bump mapped too.
+    for bump in ["", " \"float displacement\" 0.1"] {
+        let text = format!(
+            "{head}LightSource \"infinite\"\nMaterial \"diffuse\" \"rgb reflectance\" [0 0 0]{bump}\nShape \"sphere\"\n"
+        );
+        let loaded = rpbrt::scene::load_text(std::path::Path::new("s.pbrt"), &text).unwrap();
+        assert!(
+            rpbrt::scene::build::build(loaded.scene, &Default::default()).is_ok(),
+            "{text}"
+        );
+    }
 }

@@ -1129,13 +1129,18 @@ fn check_simple_vol_path(
             integrator_location,
         );
     }
-    let black = |m: &Material| match m {
-        Material::Interface => true,
-        Material::Diffuse { reflectance } => {
-            matches!(reflectance, SpectrumTexture::Constant(r) if r.max_value() == 0.0)
+    // A bump or normal map changes where a black surface faces, not that
+    // it is black.
+    fn black(m: &Material) -> bool {
+        match m {
+            Material::Interface => true,
+            Material::Diffuse { reflectance } => {
+                matches!(reflectance, SpectrumTexture::Constant(r) if r.max_value() == 0.0)
+            }
+            Material::Bumped(bumped) => black(&bumped.material),
+            _ => false,
         }
-        _ => false,
-    };
+    }
     let mut used = vec![false; materials.len()];
     for p in primitives {
         used[p.material as usize] = true;
