@@ -37,7 +37,7 @@ pub fn visible_surface(
         let ctx = texture_context(scene, camera_ray, &si, true);
         // A dispersive BSDF may terminate wavelengths: not the path's.
         let mut lambda = *lambda;
-        let Some(bsdf) = scene.materials[prim.material as usize].bsdf(&si, &ctx, &mut lambda)
+        let Some(bsdf) = scene.materials[prim.material as usize].bsdf(&mut si, &ctx, &mut lambda)
         else {
             ray = si.spawn_ray(ray.direction);
             continue;
