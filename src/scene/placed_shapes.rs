@@ -14,7 +14,7 @@ use crate::math::Transform;
 use crate::media::MediumInterface;
 use crate::scene_description::{Entity, MaterialRef, SceneDescription};
 use crate::shapes::curve::frame::{strand_angle, FibreFrame};
-use crate::shapes::{create_shapes, Shape, ShapeStorage};
+use crate::shapes::{create_shapes, Shape, ShapeContext, ShapeStorage};
 use crate::textures::{FloatTexture, NamedTextures};
 use pbrt_parser::{Location as FileLoc, Warning};
 use rayon::prelude::*;
@@ -180,11 +180,20 @@ fn place<'s>(
             loc,
         );
     }
+    let shape_context = ShapeContext {
+        base_directory: context.base,
+        textures: context.textures,
+        displacement_edge_scale: context
+            .scene
+            .options
+            .displacement_edge_scale
+            .unwrap_or(1.0) as f32,
+    };
     let shapes = create_shapes(
         shape,
         &render_from_object,
         shape.reverse_orientation,
-        context.base,
+        &shape_context,
         storage,
         warnings,
     )?;

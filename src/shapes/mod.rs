@@ -21,9 +21,11 @@ pub mod curve;
 pub mod cyhair;
 pub mod cylinder;
 pub mod disk;
+pub mod displacement;
 pub mod interval;
 pub mod loop_subdiv;
 pub mod mesh;
+pub mod mesh_subdivision;
 pub mod numeric;
 pub mod object_transform;
 pub mod ply;
@@ -43,12 +45,13 @@ pub use mesh::{BilinearPatchMesh, TriangleMesh};
 pub use sphere::Sphere;
 pub use triangle::Triangle;
 
-use crate::error::{scene_error, Result};
+use crate::error::{scene_error, Result, SceneError};
 use crate::interaction::SurfaceInteraction;
 use crate::math::{offset_ray_origin, Bounds3, Ray, Transform};
 use crate::scene_description;
+use crate::textures::NamedTextures;
 use glam::{Vec2, Vec3};
-use pbrt_parser::{ParamType, Warning};
+use pbrt_parser::Warning;
 
 use std::path::Path;
 
@@ -477,19 +480,32 @@ pub(crate) fn solid_angle_pdf_of_hit(
     }
 }
 
+/// What creating shapes needs from the rest of the scene.
+#[derive(Clone, Copy)]
+pub struct ShapeContext<'a> {
+    /// Where relative file names resolve (the scene file's directory).
+    pub base_directory: &'a Path,
+    /// The named textures (a `plymesh`'s `displacement`).
+    pub textures: &'a NamedTextures,
+    /// pbrt-v4's displacement edge scale (`Option "displacementedgescale"`
+    /// or `--displacement-edge-scale`, default 1): multiplies every
+    /// displaced `plymesh`'s `edgelength`.
+    pub displacement_edge_scale: f32,
+}
+
 /// The shapes a `Shape` directive makes, in render space.
 ///
 /// `render_from_object` is the directive's transform composed with the
 /// render-from-world transform; `reverse_orientation` the graphics state's
 /// `ReverseOrientation`. Meshes are transformed now and appended to
-/// `storage`; `plymesh` file names resolve against `base_directory`.
-/// Problems pbrt-v4 only warns about (PLY faces that are neither triangles
-/// nor quads) are added to `warnings`.
+/// `storage`; `plymesh` and `cyhair` file names resolve against
+/// `context.base_directory`. Problems pbrt-v4 only warns about (PLY faces
+/// that are neither triangles nor quads) are added to `warnings`.
 pub fn create_shapes(
     shape: &scene_description::Shape,
     render_from_object: &Transform,
     reverse_orientation: bool,
-    base_directory: &Path,
+    context: &ShapeContext,
     storage: &mut ShapeStorage,
     warnings: &mut Vec<Warning>,
 ) -> Result<Vec<Shape>> {
@@ -534,17 +550,12 @@ pub fn create_shapes(
             let (filename, filename_at) = params
                 .string_at("filename")?
                 .unwrap_or_else(|| (String::new(), location.clone()));
-            params.float("edgelength", 1.0)?;
-            if params
-                .find("displacement", &[ParamType::Float, ParamType::Texture])?
-                .is_some()
-            {
-                return scene_error("plymesh displacement is not supported yet", location);
-            }
             if filename.is_empty() {
                 return scene_error("plymesh: \"filename\" must be given", location);
             }
-            let path = pbrt_parser::resolve_path(base_directory, &filename);
+            // The file first, as pbrt-v4: a missing file is the error a
+            // scene without its assets stops at.
+            let path = pbrt_parser::resolve_path(context.base_directory, &filename);
             let ply = ply::read_ply(&path, &filename_at)?;
             if ply.skipped_faces > 0 {
                 warnings.push(Warning {
@@ -556,15 +567,34 @@ pub fn create_shapes(
                     location: location.clone(),
                 });
             }
-            let meshes = ply.into_meshes(render_from_object, reverse_orientation);
-            let mut shapes = Vec::new();
-            if let Some(mesh) = meshes.triangles {
-                shapes.extend(push_triangle_mesh(storage, mesh));
+            let displacement = displacement::Displacement::from_shape(
+                shape,
+                context.textures,
+                context.base_directory,
+                context.displacement_edge_scale,
+            )?;
+            if let Some(displacement) = displacement {
+                let data = displacement::displace(
+                    ply,
+                    &displacement.texture,
+                    displacement.edge_length,
+                    render_from_object,
+                    displacement::MAX_DISPLACED_TRIANGLES,
+                )
+                .map_err(|e| SceneError::new(format!("{}: {e}", path.display()), location))?;
+                let mesh = TriangleMesh::new(render_from_object, reverse_orientation, data);
+                push_triangle_mesh(storage, mesh)
+            } else {
+                let meshes = ply.into_meshes(render_from_object, reverse_orientation);
+                let mut shapes = Vec::new();
+                if let Some(mesh) = meshes.triangles {
+                    shapes.extend(push_triangle_mesh(storage, mesh));
+                }
+                if let Some(mesh) = meshes.quads {
+                    shapes.extend(push_bilinear_mesh(storage, mesh));
+                }
+                shapes
             }
-            if let Some(mesh) = meshes.quads {
-                shapes.extend(push_bilinear_mesh(storage, mesh));
-            }
-            shapes
         }
         "curve" | "bcurve" | "cyhair" => {
             // Both append segments and pieces; the shape's are the new pieces.
@@ -574,7 +604,7 @@ pub fn create_shapes(
                     shape,
                     render_from_object,
                     reverse_orientation,
-                    base_directory,
+                    context.base_directory,
                     &mut storage.curve_segments,
                     &mut storage.curve_pieces,
                 )?;
@@ -640,18 +670,33 @@ mod tests {
         directory: &Path,
         world: &str,
     ) -> (Result<Vec<Shape>>, ShapeStorage, Vec<Warning>) {
+        create_all_with_edge_scale(directory, world, 1.0)
+    }
+
+    /// [`create_all`] with a displacement edge scale.
+    fn create_all_with_edge_scale(
+        directory: &Path,
+        world: &str,
+        displacement_edge_scale: f32,
+    ) -> (Result<Vec<Shape>>, ShapeStorage, Vec<Warning>) {
         let text = format!("WorldBegin\n{world}\n");
         let loaded = load_text(&directory.join("scene.pbrt"), &text).unwrap();
         let mut storage = ShapeStorage::default();
         let mut warnings = Vec::new();
         let mut all = Vec::new();
+        let textures = NamedTextures::default();
+        let context = ShapeContext {
+            base_directory: directory,
+            textures: &textures,
+            displacement_edge_scale,
+        };
         for shape in &loaded.scene.shapes {
             let transform = loaded.scene.transform(shape.world_from_object).start;
             match create_shapes(
                 shape,
                 &transform,
                 shape.reverse_orientation,
-                directory,
+                &context,
                 &mut storage,
                 &mut warnings,
             ) {
@@ -841,11 +886,9 @@ element face 2\nproperty list uchar int vertex_indices\nend_header\n\
             r#"Shape "loopsubdiv" "integer indices" [0 1 2 0 1 2] "point3 P" [0 0 0 1 0 0 0 1 0]"#,
         );
         assert!(e.contains("in two triangles the same way round"), "{e}");
+        // A displaced mesh whose file is absent stops at the file.
         let e = error(r#"Shape "plymesh" "string filename" "mesh.ply" "float displacement" 0.1"#);
-        assert!(
-            e.contains("plymesh displacement is not supported yet"),
-            "{e}"
-        );
+        assert!(e.contains("cannot read") && e.contains("mesh.ply"), "{e}");
         let e = error(r#"Shape "plymesh" "string filename" "missing.ply""#);
         assert!(e.contains("missing.ply"), "{e}");
         let e = error(
@@ -855,6 +898,107 @@ element face 2\nproperty list uchar int vertex_indices\nend_header\n\
             e.contains("\"indices\" values out of range: 7") && e.contains("scene.pbrt:2:"),
             "{e}"
         );
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    /// A unit square in z = 0 as one quad with (u,v), and the same
+    /// without (u,v).
+    fn write_square_plys(dir: &Path) {
+        let header = "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n";
+        let faces = "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+        std::fs::write(
+            dir.join("square.ply"),
+            format!("{header}property float u\nproperty float v\n{faces}0 0 0 0 0\n1 0 0 1 0\n1 1 0 1 1\n0 1 0 0 1\n4 0 1 2 3\n"),
+        )
+        .unwrap();
+        std::fs::write(
+            dir.join("no-uv.ply"),
+            format!("{header}{faces}0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n"),
+        )
+        .unwrap();
+    }
+
+    #[test]
+    fn a_displaced_plymesh_is_cut_lifted_and_transformed() {
+        let dir = temporary_directory("displaced");
+        write_square_plys(&dir);
+        let world = r#"
+            Translate 0 0 10
+            Shape "plymesh" "string filename" "square.ply" "float displacement" 0.5 "float edgelength" 0.3
+        "#;
+        let (shapes, storage, _) = create_all(&dir, world);
+        let shapes = shapes.unwrap();
+        // Two right triangles of legs 1, each cut into 2^5 (the
+        // hypotenuse first under 0.3 after 5 halvings).
+        assert_eq!(shapes.len(), 64);
+        assert!(shapes.iter().all(|s| matches!(s, Shape::Triangle(_))));
+        let mesh = &storage.triangle_meshes[0];
+        assert!(mesh.positions.iter().all(|p| (p.z - 10.5).abs() < 1e-5));
+        assert_eq!(mesh.normals.len(), mesh.positions.len());
+        let area: f32 = shapes.iter().map(|s| s.area(&storage)).sum();
+        assert!((area - 1.0).abs() < 1e-5);
+        // The edge scale multiplies the edge length: at 0.6 three
+        // halvings do.
+        let (coarser, _, _) = create_all_with_edge_scale(&dir, world, 2.0);
+        assert_eq!(coarser.unwrap().len(), 16);
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn displacement_errors_point_at_the_parameter() {
+        let dir = temporary_directory("displacement-errors");
+        write_square_plys(&dir);
+        let error = |world: &str, scale: f32| {
+            create_all_with_edge_scale(&dir, world, scale)
+                .0
+                .unwrap_err()
+                .to_string()
+        };
+        // An unknown texture is caught as the scene is read (a texture
+        // must be defined before the shape that uses it).
+        let text = "WorldBegin\nShape \"plymesh\" \"string filename\" \"square.ply\" \"texture displacement\" \"bumps\"\n";
+        let e = match load_text(&dir.join("scene.pbrt"), text) {
+            Ok(_) => panic!("an undefined texture was accepted"),
+            Err(e) => e.to_string(),
+        };
+        assert!(
+            e.contains("texture \"bumps\" is not defined") && e.contains("scene.pbrt:2:"),
+            "{e}"
+        );
+        for edge in ["0", "-1"] {
+            let e = error(
+                &format!(
+                    r#"Shape "plymesh" "string filename" "square.ply" "float displacement" 1 "float edgelength" {edge}"#
+                ),
+                1.0,
+            );
+            assert!(
+                e.contains("edge length must be positive") && e.contains("scene.pbrt:2:"),
+                "{e}"
+            );
+        }
+        let e = error(
+            r#"Shape "plymesh" "string filename" "square.ply" "float displacement" 1"#,
+            f32::NAN,
+        );
+        assert!(e.contains("edge length must be positive"), "{e}");
+        let e = error(
+            r#"Shape "plymesh" "string filename" "no-uv.ply" "float displacement" 1"#,
+            1.0,
+        );
+        assert!(e.contains("no-uv.ply: displacement needs per-vertex (u,v)"), "{e}");
+        let e = error(
+            r#"Shape "plymesh" "string filename" "square.ply" "float displacement" 1 "float edgelength" 1e-6"#,
+            1.0,
+        );
+        assert!(e.contains("more than 50000000 triangles"), "{e}");
+        // Without a displacement the edge length is not looked at (as in
+        // pbrt-v4), and quads stay bilinear patches.
+        let (shapes, _, _) = create_all(
+            &dir,
+            r#"Shape "plymesh" "string filename" "square.ply" "float edgelength" 0"#,
+        );
+        assert!(matches!(shapes.unwrap()[..], [Shape::BilinearPatch(_)]));
         let _ = std::fs::remove_dir_all(&dir);
     }
 }
