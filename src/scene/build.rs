@@ -43,6 +43,9 @@ pub struct RenderOverrides {
     /// Divides the film's resolution in each axis (not a pbrt-v4 flag: for
     /// `rpbrt reproduce`'s previews); `--quick` uses 4.
     pub resolution_divisor: Option<u32>,
+    /// `--displacement-edge-scale`: multiplies the edge length of every
+    /// displaced `plymesh` (over `Option "displacementedgescale"`).
+    pub displacement_edge_scale: Option<f64>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -372,6 +375,9 @@ impl BuiltScene {
 /// sampler ([`prepare_lights`]).
 pub fn build(mut description: SceneDescription, overrides: &RenderOverrides) -> Result<BuiltScene> {
     let mut warnings = Vec::new();
+    if let Some(scale) = overrides.displacement_edge_scale {
+        description.options.displacement_edge_scale = Some(scale);
+    }
 
     let View {
         camera,

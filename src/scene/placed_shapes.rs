@@ -183,11 +183,8 @@ fn place<'s>(
     let shape_context = ShapeContext {
         base_directory: context.base,
         textures: context.textures,
-        displacement_edge_scale: context
-            .scene
-            .options
-            .displacement_edge_scale
-            .unwrap_or(1.0) as f32,
+        displacement_edge_scale: context.scene.options.displacement_edge_scale.unwrap_or(1.0)
+            as f32,
     };
     let shapes = create_shapes(
         shape,

@@ -240,13 +240,30 @@ mod tests {
         // Cut: more vertices than the grid's 9, every one lifted by 0.25
         // along the computed normal +z.
         assert!(displaced.positions.len() > 9);
-        assert!(displaced.positions.iter().all(|p| (p.z - 0.25).abs() < 1e-6));
+        assert!(displaced
+            .positions
+            .iter()
+            .all(|p| (p.z - 0.25).abs() < 1e-6));
         assert!(displaced.positions.iter().all(|p| p.x >= 0.0 && p.x <= 2.0));
-        assert!(displaced.normals.iter().all(|&n| (n - Vec3::Z).length() < 1e-6));
+        assert!(displaced
+            .normals
+            .iter()
+            .all(|&n| (n - Vec3::Z).length() < 1e-6));
         // Each piece keeps the index of its quad.
-        assert_eq!(displaced.face_indices.len(), displaced.vertex_indices.len() / 3);
-        for (v, &face) in displaced.vertex_indices.chunks_exact(3).zip(&displaced.face_indices) {
-            let centroid: Vec3 = v.iter().map(|&i| displaced.positions[i as usize]).sum::<Vec3>() / 3.0;
+        assert_eq!(
+            displaced.face_indices.len(),
+            displaced.vertex_indices.len() / 3
+        );
+        for (v, &face) in displaced
+            .vertex_indices
+            .chunks_exact(3)
+            .zip(&displaced.face_indices)
+        {
+            let centroid: Vec3 = v
+                .iter()
+                .map(|&i| displaced.positions[i as usize])
+                .sum::<Vec3>()
+                / 3.0;
             let cell = centroid.y.floor() as i32 * 2 + centroid.x.floor() as i32;
             assert_eq!(face, cell, "{centroid}");
         }
@@ -266,7 +283,10 @@ mod tests {
         .unwrap();
         assert_eq!(displaced.positions[0], Vec3::new(0.5, 0.0, 0.0));
         assert_eq!(displaced.positions[3], Vec3::new(1.5, 1.0, 0.0));
-        assert!(displaced.normals.iter().all(|&n| (n - Vec3::Z).length() < 1e-6));
+        assert!(displaced
+            .normals
+            .iter()
+            .all(|&n| (n - Vec3::Z).length() < 1e-6));
     }
 
     /// `bilerp` with corners 0, 1, 2, 3 is 0 + s + 2t at (s,t): each
@@ -289,7 +309,10 @@ mod tests {
         }
         // A tilted plane: the recomputed normals are its normal.
         let plane_normal = Vec3::new(-0.5, -1.0, 1.0).normalize();
-        assert!(displaced.normals.iter().all(|n| (*n - plane_normal).length() < 1e-5));
+        assert!(displaced
+            .normals
+            .iter()
+            .all(|n| (*n - plane_normal).length() < 1e-5));
     }
 
     #[test]
@@ -316,14 +339,26 @@ mod tests {
             displace(no_uv, &texture, 1.0, &Transform::IDENTITY, 10),
             Err(DisplacementError::NoUvs)
         );
-        let e = displace(grid(1), &texture, 1e-5, &Transform::IDENTITY, MAX_DISPLACED_TRIANGLES)
-            .unwrap_err();
+        let e = displace(
+            grid(1),
+            &texture,
+            1e-5,
+            &Transform::IDENTITY,
+            MAX_DISPLACED_TRIANGLES,
+        )
+        .unwrap_err();
         assert!(matches!(e, DisplacementError::TooManyTriangles(_)), "{e}");
     }
 
     #[test]
     fn vertex_normals_skip_degenerate_triangles() {
-        let positions = [Vec3::ZERO, Vec3::X, Vec3::Y, Vec3::new(2.0, 0.0, 0.0), Vec3::new(5.0, 5.0, 5.0)];
+        let positions = [
+            Vec3::ZERO,
+            Vec3::X,
+            Vec3::Y,
+            Vec3::new(2.0, 0.0, 0.0),
+            Vec3::new(5.0, 5.0, 5.0),
+        ];
         let normals = vertex_normals(&positions, &[0, 1, 2, 0, 1, 3]);
         assert_eq!(normals[..3], [Vec3::Z; 3]);
         assert_eq!(normals[3], Vec3::ZERO);

@@ -84,8 +84,8 @@ pub fn refine(
     // Every triangle left has all edges shorter than `edge_length`, so at
     // most the equilateral triangle's area: the area to cover bounds the
     // count from below, and hopeless requests stop here, in a moment.
-    let lower_bound =
-        render_space_area(&mesh.triangle_indices, &render_positions) / (UNIT_EDGE_MAX_AREA * f64::from(edge_length).powi(2));
+    let lower_bound = render_space_area(&mesh.triangle_indices, &render_positions)
+        / (UNIT_EDGE_MAX_AREA * f64::from(edge_length).powi(2));
     if lower_bound > max_triangles as f64 {
         return Err(too_many(Some(lower_bound)));
     }
@@ -197,7 +197,11 @@ mod tests {
     fn right_triangle() -> RefinableMesh {
         RefinableMesh {
             positions: vec![Vec3::ZERO, Vec3::X, Vec3::Y],
-            normals: vec![Vec3::Z, Vec3::new(1.0, 0.0, 1.0).normalize(), Vec3::new(0.0, 1.0, 1.0).normalize()],
+            normals: vec![
+                Vec3::Z,
+                Vec3::new(1.0, 0.0, 1.0).normalize(),
+                Vec3::new(0.0, 1.0, 1.0).normalize(),
+            ],
             uvs: vec![Vec2::ZERO, Vec2::X, Vec2::Y],
             triangle_indices: vec![0, 1, 2],
             face_indices: vec![7],
@@ -230,8 +234,11 @@ mod tests {
         assert!(longest_edge(&mesh) > 0.15);
         assert_eq!(mesh.face_indices, vec![7; 32]);
         // Every vertex is a distinct point and is used.
-        let distinct: HashSet<[u32; 3]> =
-            mesh.positions.iter().map(|p| p.to_array().map(f32::to_bits)).collect();
+        let distinct: HashSet<[u32; 3]> = mesh
+            .positions
+            .iter()
+            .map(|p| p.to_array().map(f32::to_bits))
+            .collect();
         assert_eq!(distinct.len(), mesh.positions.len());
         let used: HashSet<u32> = mesh.triangle_indices.iter().copied().collect();
         assert_eq!(used.len(), mesh.positions.len());
@@ -301,7 +308,8 @@ mod tests {
             .chunks_exact(3)
             .filter(|v| v.contains(&(centre[0] as u32)))
             .map(|v| {
-                let centroid: Vec3 = v.iter().map(|&i| mesh.positions[i as usize]).sum::<Vec3>() / 3.0;
+                let centroid: Vec3 =
+                    v.iter().map(|&i| mesh.positions[i as usize]).sum::<Vec3>() / 3.0;
                 centroid.x > centroid.y
             })
             .collect::<HashSet<bool>>();
@@ -326,7 +334,10 @@ mod tests {
         refine(&mut scaled, 0.3, &scale, 100_000).unwrap();
         let mut quarter = right_triangle();
         refine(&mut quarter, 0.3 / 4.0, &Transform::IDENTITY, 100_000).unwrap();
-        assert_eq!(scaled.triangle_indices.len(), quarter.triangle_indices.len());
+        assert_eq!(
+            scaled.triangle_indices.len(),
+            quarter.triangle_indices.len()
+        );
         assert_eq!(scaled.triangle_indices.len() / 3, 512);
         // The positions stay in object space.
         assert!(longest_edge(&scaled) < 0.3 / 4.0);
@@ -355,7 +366,11 @@ mod tests {
     #[test]
     fn edges_of_infinite_or_nan_length_are_left_alone() {
         let mut mesh = RefinableMesh {
-            positions: vec![Vec3::ZERO, Vec3::new(f32::INFINITY, 0.0, 0.0), Vec3::new(0.0, f32::NAN, 0.0)],
+            positions: vec![
+                Vec3::ZERO,
+                Vec3::new(f32::INFINITY, 0.0, 0.0),
+                Vec3::new(0.0, f32::NAN, 0.0),
+            ],
             triangle_indices: vec![0, 1, 2],
             ..Default::default()
         };

@@ -986,7 +986,10 @@ element face 2\nproperty list uchar int vertex_indices\nend_header\n\
             r#"Shape "plymesh" "string filename" "no-uv.ply" "float displacement" 1"#,
             1.0,
         );
-        assert!(e.contains("no-uv.ply: displacement needs per-vertex (u,v)"), "{e}");
+        assert!(
+            e.contains("no-uv.ply: displacement needs per-vertex (u,v)"),
+            "{e}"
+        );
         let e = error(
             r#"Shape "plymesh" "string filename" "square.ply" "float displacement" 1 "float edgelength" 1e-6"#,
             1.0,

@@ -3,8 +3,8 @@
 //! | parameter      | type          | default | meaning                                   |
 //! |----------------|---------------|---------|-------------------------------------------|
 //! | `filename`     | string        | required| `.ply` or gzip-compressed `.ply.gz` file, relative to the scene file's directory |
-//! | `displacement` | float texture | none    | not supported yet (an error)              |
-//! | `edgelength`   | float         | 1       | displacement tessellation length (unused) |
+//! | `displacement` | float texture | none    | moves each vertex along its normal by the texture's value (`super::displacement`) |
+//! | `edgelength`   | float         | 1       | with `displacement`: edges are cut until shorter than this (render space), times the displacement edge scale; must then be positive |
 //!
 //! ASCII and binary (either byte order) files are read. From the `vertex`
 //! element: `x y z` (required), `nx ny nz`, and texture coordinates under
@@ -19,6 +19,14 @@
 //!
 //! Elements are parsed straight into small typed structs (no per-element
 //! maps), so large meshes read quickly.
+//!
+//! With `displacement` the file must have (u,v); its quads become two
+//! triangles each and the mesh one triangle mesh, refined and displaced
+//! at build time ([`super::displacement`]). The refinement stops with an
+//! error past [`super::displacement::MAX_DISPLACED_TRIANGLES`] (50
+//! million) triangles, where pbrt-v4 has no bound. The displacement edge
+//! scale is `Option "displacementedgescale"` or `--displacement-edge-scale`
+//! (default 1).
 
 use super::mesh::{BilinearPatchMesh, MeshData, TriangleMesh};
 use crate::error::{scene_error, unreadable_file, Error, Result};

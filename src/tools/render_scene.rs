@@ -57,6 +57,10 @@ pub struct RenderArgs {
     /// Print timing and sample statistics after rendering.
     #[arg(long)]
     pub stats: bool,
+    /// Multiplies the edge length of every displaced `plymesh` (overrides
+    /// `Option "displacementedgescale"`; pbrt-v4's flag).
+    #[arg(long)]
+    pub displacement_edge_scale: Option<f64>,
 }
 
 /// Renders (or checks, formats, upgrades) the scene.
@@ -156,6 +160,7 @@ fn overrides(cli: &RenderArgs) -> Result<RenderOverrides, Error> {
             .transpose()?,
         quick: cli.quick,
         resolution_divisor: None,
+        displacement_edge_scale: cli.displacement_edge_scale,
     })
 }
 
