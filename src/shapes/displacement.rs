@@ -82,7 +82,8 @@ impl Displacement {
             return Ok(None);
         };
         let scaled = edge_length * edge_scale;
-        if !(scaled > 0.0) {
+        // NaN (from either factor) is refused too.
+        if scaled.is_nan() || scaled <= 0.0 {
             let location = match params.find("edgelength", &[ParamType::Float])? {
                 Some(p) => p.location.clone(),
                 None => shape.entity.location.0.clone(),
