@@ -4,7 +4,7 @@
 //! |----------------|---------------|---------|-------------------------------------------|
 //! | `filename`     | string        | required| `.ply` or gzip-compressed `.ply.gz` file, relative to the scene file's directory |
 //! | `displacement` | float texture | none    | moves each vertex along its normal by the texture's value (`super::displacement`) |
-//! | `edgelength`   | float         | 1       | with `displacement`: edges are cut until shorter than this (render space), times the displacement edge scale; must then be positive |
+//! | `edgelength`   | float         | 1       | with `displacement`: edges are cut until shorter than this times the displacement edge scale (measured after the shape's transform: in render space, or a moving shape's own space, as pbrt-v4); must then be positive |
 //!
 //! ASCII and binary (either byte order) files are read. From the `vertex`
 //! element: `x y z` (required), `nx ny nz`, and texture coordinates under
