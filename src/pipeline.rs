@@ -292,6 +292,17 @@ impl Sampling<'_> {
                     filter_weight: fs.weight,
                 };
                 let Some(camera_ray) = built.camera.generate_ray(&sample, &lambda) else {
+                    // A ray the camera cannot make (one a lens blocks)
+                    // still counts as a black sample, as in pbrt-v4:
+                    // vignetting darkens the pixel instead of vanishing
+                    // from it.
+                    acc.add_sample(
+                        film,
+                        crate::spectrum::SampledSpectrum::ZERO,
+                        &lambda,
+                        sample.filter_weight,
+                        None,
+                    );
                     return;
                 };
                 let visible = if P::USES_VISIBLE_SURFACE {

@@ -1,21 +1,26 @@
 //! Cameras: film positions to rays in render space.
 //!
-//! `perspective`, `orthographic` and `spherical` each have their own file;
+//! `perspective`, `orthographic`, `spherical` and `realistic` each have
+//! their own file;
 //! the parameters the projective ones share (shutter, thin lens, screen
 //! window) are read here.
 //!
 //! Render space is pbrt-v4's default "cameraworld": world axes, origin at the
 //! camera, which keeps coordinates small where the rays are.
 
+pub mod aperture;
 pub mod differentials;
 pub mod importance;
+pub mod lens_system;
 pub mod orthographic;
 pub mod perspective;
+pub mod realistic;
 pub mod spherical;
 pub mod transform;
 
 pub use orthographic::OrthographicCamera;
 pub use perspective::PerspectiveCamera;
+pub use realistic::{FilmGeometry, RealisticCamera};
 pub use spherical::SphericalCamera;
 pub use transform::CameraTransform;
 
@@ -53,6 +58,7 @@ pub enum Camera {
     Perspective(PerspectiveCamera),
     Orthographic(OrthographicCamera),
     Spherical(SphericalCamera),
+    Realistic(RealisticCamera),
 }
 
 /// `shutteropen`, `shutterclose` (default 0, 1; swapped if reversed, as
@@ -136,8 +142,27 @@ fn differential_scale(samples_per_pixel: u32, pixel_jitter: bool) -> f32 {
 }
 
 impl Camera {
-    /// Creates the scene's camera for a film of `full_resolution`.
+    /// Creates the scene's camera for a film of `full_resolution` with
+    /// pbrt-v4's default 35 mm diagonal, file names resolving against the
+    /// camera's own scene file's directory.
     pub fn create(camera: &scene_description::Camera, full_resolution: IVec2) -> Result<Camera> {
+        let directory = camera.entity.location.0.file.directory().to_path_buf();
+        Camera::create_for_film(
+            camera,
+            FilmGeometry {
+                full_resolution,
+                diagonal: 0.035,
+                base_directory: &directory,
+            },
+        )
+    }
+
+    /// Creates the scene's camera for `film`.
+    pub fn create_for_film(
+        camera: &scene_description::Camera,
+        film: FilmGeometry,
+    ) -> Result<Camera> {
+        let full_resolution = film.full_resolution;
         let entity = &camera.entity;
         let transform = CameraTransform::new(&camera.camera_from_world);
         match entity.kind.as_str() {
@@ -156,8 +181,11 @@ impl Camera {
                 transform,
                 full_resolution,
             )?)),
+            "realistic" => Ok(Camera::Realistic(RealisticCamera::create(
+                entity, transform, film,
+            )?)),
             other => scene_error(
-                format!("camera \"{other}\" is not supported yet (supported: perspective, orthographic, spherical)"),
+                format!("camera \"{other}\" is not supported yet (supported: perspective, orthographic, spherical, realistic)"),
                 &entity.location.0,
             ),
         }
@@ -171,6 +199,7 @@ impl Camera {
             Camera::Perspective(c) => c.pixel_jitter = jitter,
             Camera::Orthographic(c) => c.pixel_jitter = jitter,
             Camera::Spherical(c) => c.pixel_jitter = jitter,
+            Camera::Realistic(c) => c.pixel_jitter = jitter,
         }
         self
     }
@@ -180,6 +209,7 @@ impl Camera {
             Camera::Perspective(c) => c.pixel_jitter,
             Camera::Orthographic(c) => c.pixel_jitter,
             Camera::Spherical(c) => c.pixel_jitter,
+            Camera::Realistic(c) => c.pixel_jitter,
         }
     }
 
@@ -192,6 +222,7 @@ impl Camera {
             Camera::Perspective(c) => c.generate_ray(sample),
             Camera::Orthographic(c) => c.generate_ray(sample),
             Camera::Spherical(c) => c.generate_ray(sample),
+            Camera::Realistic(c) => c.generate_ray(sample),
         }
     }
 
@@ -202,6 +233,7 @@ impl Camera {
             Camera::Perspective(c) => c.lens_radius > 0.0,
             Camera::Orthographic(c) => c.lens_radius > 0.0,
             Camera::Spherical(_) => false,
+            Camera::Realistic(_) => true,
         }
     }
 
@@ -213,6 +245,7 @@ impl Camera {
             Camera::Perspective(c) => (&c.min_differentials, &c.transform),
             Camera::Orthographic(c) => (&c.min_differentials, &c.transform),
             Camera::Spherical(c) => (&c.min_differentials, &c.transform),
+            Camera::Realistic(c) => (&c.min_differentials, &c.transform),
         };
         minimum.approximate_dp_dxy(transform, p, n, scale)
     }
@@ -246,6 +279,7 @@ impl Camera {
             Camera::Perspective(c) => &c.transform,
             Camera::Orthographic(c) => &c.transform,
             Camera::Spherical(c) => &c.transform,
+            Camera::Realistic(c) => &c.transform,
         }
     }
 
@@ -255,6 +289,7 @@ impl Camera {
             Camera::Perspective(c) => (c.shutter_open, c.shutter_close),
             Camera::Orthographic(c) => (c.shutter_open, c.shutter_close),
             Camera::Spherical(c) => (c.shutter_open, c.shutter_close),
+            Camera::Realistic(c) => (c.shutter_open, c.shutter_close),
         }
     }
 }

@@ -43,6 +43,8 @@ pub struct RgbFilm {
     pub pixel_bounds: (IVec2, IVec2),
     pub filename: PathBuf,
     pub save_fp16: bool,
+    /// The physical film's diagonal in metres (for the realistic camera).
+    pub diagonal: f32,
     /// exposure time × ISO / 100.
     imaging_ratio: f32,
     max_component_value: f32,
@@ -120,7 +122,8 @@ impl RgbFilm {
         let white_balance = p.float("whitebalance", 0.0)?;
         let sensor = p.string("sensor", "cie1931")?;
         let max_component_value = p.float("maxcomponentvalue", f64::INFINITY)? as f32;
-        p.float("diagonal", 35.0)?;
+        // Millimetres in the scene, metres in the renderer (as pbrt-v4).
+        let diagonal = p.float("diagonal", 35.0)? as f32 * 0.001;
         let spectral = if entity.kind == "spectral" {
             Some(spectral_buckets(p, &filename, loc)?)
         } else {
@@ -171,6 +174,7 @@ impl RgbFilm {
             pixel_bounds: bounds,
             filename,
             save_fp16,
+            diagonal,
             imaging_ratio: exposure_time * iso / 100.0,
             max_component_value,
             output_rgb_from_sensor,

@@ -49,6 +49,7 @@ mod permutation;
 mod pmj02bn;
 mod primes;
 mod radical_inverse;
+pub(crate) use radical_inverse::radical_inverse;
 mod randomize_strategy;
 mod sobol;
 mod sobol_interval;

@@ -589,7 +589,14 @@ fn create_view(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<
         let b = film.crop_window_bounds(c);
         film.set_pixel_bounds(b);
     }
-    let camera = Camera::create(&scene.camera, film.full_resolution)?
+    let camera = Camera::create_for_film(
+        &scene.camera,
+        crate::cameras::FilmGeometry {
+            full_resolution: film.full_resolution,
+            diagonal: film.diagonal,
+            base_directory: &scene.base_directory,
+        },
+    )?
         .with_pixel_jitter(!scene.options.disable_pixel_jitter);
     film.place_gbuffer(camera.transform());
 
