@@ -406,8 +406,9 @@ impl LensSystem {
 
     /// The thick-lens approximation, from rays parallel to the axis at a
     /// small height (a thousandth of the film diagonal) traced both ways;
-    /// `None` when either is blocked.
-    pub fn thick_lens(&self, film_diagonal: f32) -> Option<ThickLens> {
+    /// `None` when either is blocked (the one from the film also by a
+    /// closed point of the aperture `mask`, as in pbrt-v4).
+    pub fn thick_lens(&self, film_diagonal: f32, mask: Option<&ApertureMask>) -> Option<ThickLens> {
         let x = 0.001 * film_diagonal;
         let from_scene = (
             Vec3::new(x, 0.0, self.front_z() + 1.0),
@@ -419,7 +420,7 @@ impl LensSystem {
             Vec3::new(x, 0.0, self.rear_z() - 1.0),
             Vec3::new(0.0, 0.0, 1.0),
         );
-        let (o, d, _) = self.trace_from_film(from_film.0, from_film.1, None)?;
+        let (o, d, _) = self.trace_from_film(from_film.0, from_film.1, mask)?;
         let (scene_principal_z, scene_focal_z) = Self::cardinal_points(from_film, (o, d));
         Some(ThickLens {
             film_principal_z,
@@ -527,7 +528,7 @@ mod tests {
             (30.0, 200.0, 4.0, 1.6),
         ] {
             let lens = single_lens(r1, r2, d, n);
-            let thick = lens.thick_lens(0.035).unwrap();
+            let thick = lens.thick_lens(0.035, None).unwrap();
             let expected = lensmaker_focal_length(r1, r2, d, n) / 1000.0;
             let f = thick.focal_length();
             assert!((f / expected - 1.0).abs() < 2e-3, "{r1} {r2} {d} {n}: {f} vs {expected}");
@@ -542,7 +543,7 @@ mod tests {
         // by an amount growing as the height squared (the singlet's
         // spherical aberration).
         let mut lens = single_lens(50.0, -50.0, 5.0, 1.5);
-        let thick = lens.thick_lens(0.035).unwrap();
+        let thick = lens.thick_lens(0.035, None).unwrap();
         let rear = lens.focused_rear_distance(&thick, 2.0).unwrap();
         lens.elements.last_mut().unwrap().thickness = rear;
         let rear_z = lens.rear_z();

@@ -127,9 +127,9 @@ impl RealisticCamera {
             _ => None,
         };
         let mut lens = LensSystem::new(elements);
-        let Some(thick) = lens.thick_lens(film.diagonal) else {
+        let Some(thick) = lens.thick_lens(film.diagonal, mask.as_ref()) else {
             return scene_error(
-                format!("camera \"realistic\": no ray parallel to the axis gets through the lens system of \"{}\" (is the aperture stop very small?)", path.display()),
+                format!("camera \"realistic\": no ray parallel to the axis gets through the lens system of \"{}\" (is the aperture stop very small, or its shape closed at the centre?)", path.display()),
                 loc,
             );
         };
@@ -376,7 +376,7 @@ pub(crate) mod tests {
     #[test]
     fn the_double_gauss_focuses_at_50mm_and_its_centre_rays_meet_at_the_focus_distance() {
         let c = double_gauss(8);
-        let thick = realistic(c).lens.thick_lens(0.035).unwrap();
+        let thick = realistic(c).lens.thick_lens(0.035, None).unwrap();
         assert!((thick.focal_length() - 0.050).abs() < 0.002, "{}", thick.focal_length());
         // Rays from the film centre: the camera is at z = 5 looking down
         // −z, so the plane in focus is z = 2 (3 m from the film). Their
