@@ -64,10 +64,17 @@ fn middle_statistics(image: &Image) -> (f64, f64) {
     let (w, h) = (image.width(), image.height());
     let values: Vec<f64> = (h / 4..3 * h / 4)
         .flat_map(|y| (w / 4..3 * w / 4).map(move |x| (x, y)))
-        .map(|(x, y)| image.pixel(x, y)[..3].iter().map(|&v| v as f64).sum::<f64>() / 3.0)
+        .map(|(x, y)| {
+            image.pixel(x, y)[..3]
+                .iter()
+                .map(|&v| v as f64)
+                .sum::<f64>()
+                / 3.0
+        })
         .collect();
     let mean = values.iter().sum::<f64>() / values.len() as f64;
-    let variance = values.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / values.len() as f64;
+    let variance =
+        values.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / values.len() as f64;
     (mean, variance.sqrt())
 }
 
@@ -94,5 +101,8 @@ fn the_plane_in_focus_is_sharp_and_a_defocused_one_blurred() {
     );
     // Moving the lens out to focus close dims the film (less of the
     // pupil's solid angle), but not to nothing.
-    assert!(blurred_mean > 0.3 * sharp_mean, "{blurred_mean} vs {sharp_mean}");
+    assert!(
+        blurred_mean > 0.3 * sharp_mean,
+        "{blurred_mean} vs {sharp_mean}"
+    );
 }

@@ -126,10 +126,13 @@ impl ApertureMask {
             values,
         };
         mask.flip_rows();
-        let mean = mask.values.iter().map(|&v| v as f64).sum::<f64>() / mask.values.len().max(1) as f64;
+        let mean =
+            mask.values.iter().map(|&v| v as f64).sum::<f64>() / mask.values.len().max(1) as f64;
         if !(mean > 0.0 && mean.is_finite()) {
             return scene_error(
-                format!("camera \"aperture\" \"{name}\" lets no light through (its mean is {mean})"),
+                format!(
+                    "camera \"aperture\" \"{name}\" lets no light through (its mean is {mean})"
+                ),
                 location,
             );
         }
@@ -225,8 +228,12 @@ mod tests {
     fn built_in_shapes_are_normalised_to_the_circles_light() {
         for name in ["gaussian", "square", "pentagon", "star"] {
             let mask = builtin(name);
-            let mean = mask.values.iter().map(|&v| v as f64).sum::<f64>() / mask.values.len() as f64;
-            assert!((mean - std::f64::consts::FRAC_PI_4).abs() < 1e-5, "{name}: {mean}");
+            let mean =
+                mask.values.iter().map(|&v| v as f64).sum::<f64>() / mask.values.len() as f64;
+            assert!(
+                (mean - std::f64::consts::FRAC_PI_4).abs() < 1e-5,
+                "{name}: {mean}"
+            );
             assert!(mask.bilerp(Vec2::splat(0.5)) > 0.0, "{name}");
             assert_eq!(mask.bilerp(Vec2::new(0.01, 0.01)), 0.0, "{name}");
             assert_eq!(mask.bilerp(Vec2::new(1.5, 0.5)), 0.0, "{name}");
@@ -250,9 +257,16 @@ mod tests {
 
     #[test]
     fn a_missing_aperture_image_is_a_located_cannot_read() {
-        let e = ApertureMask::create("no-such-aperture.png", Path::new("/nonexistent"), &Location::nowhere())
-            .unwrap_err()
-            .to_string();
-        assert!(e.contains("cannot read") && e.contains("no-such-aperture.png"), "{e}");
+        let e = ApertureMask::create(
+            "no-such-aperture.png",
+            Path::new("/nonexistent"),
+            &Location::nowhere(),
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains("cannot read") && e.contains("no-such-aperture.png"),
+            "{e}"
+        );
     }
 }

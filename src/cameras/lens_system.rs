@@ -160,10 +160,7 @@ pub fn parse_lens_file(text: &str, name: &Path) -> Result<Vec<LensElement>> {
     let file = SourceFile::in_memory(name, Arc::from(text.as_bytes()));
     let numbers = parse_numbers(text, &file)?;
     if numbers.is_empty() {
-        return scene_error(
-            "lens file: no lens elements in it",
-            &Location::new(file, 0),
-        );
+        return scene_error("lens file: no lens elements in it", &Location::new(file, 0));
     }
     if numbers.len() % 4 != 0 {
         let (_, offset) = numbers[numbers.len() - numbers.len() % 4];
@@ -312,7 +309,7 @@ impl LensSystem {
             let (t, n) = if element.is_stop() {
                 let t = (element_z - o.z) / d.z;
                 // NaN (a ray parallel to the stop) fails here too.
-                if !(t >= 0.0) {
+                if t.is_nan() || t < 0.0 {
                     return None;
                 }
                 (t, Vec3::ZERO)
@@ -330,7 +327,9 @@ impl LensSystem {
                     }
                 }
                 _ => {
-                    if hit.x * hit.x + hit.y * hit.y > element.aperture_radius * element.aperture_radius {
+                    if hit.x * hit.x + hit.y * hit.y
+                        > element.aperture_radius * element.aperture_radius
+                    {
                         return None;
                     }
                 }
@@ -362,7 +361,7 @@ impl LensSystem {
         for (i, element) in self.elements.iter().enumerate() {
             let (t, n) = if element.is_stop() {
                 let t = (element_z - o.z) / d.z;
-                if !(t >= 0.0) {
+                if t.is_nan() || t < 0.0 {
                     return None;
                 }
                 (t, Vec3::ZERO)
@@ -440,7 +439,7 @@ impl LensSystem {
         let z = -focus_distance;
         let (p_film, p_scene) = (thick.film_principal_z, thick.scene_principal_z);
         let c = (p_scene - z - p_film) * (p_scene - z - 4.0 * f - p_film);
-        if !(c > 0.0) {
+        if c.is_nan() || c <= 0.0 {
             return None;
         }
         let delta = (p_scene - z + p_film - c.sqrt()) / 2.0;
@@ -505,13 +504,13 @@ mod tests {
     /// n) followed by air to the film, in lens-file millimetres, with an
     /// aperture stop of `stop` mm diameter 1 mm in front of it.
     pub(crate) fn single_lens_file(r1: f32, r2: f32, d: f32, n: f32, stop: f32) -> String {
-        format!(
-            "# stop, then one biconvex lens\n0 1 1 {stop}\n{r1} {d} {n} 20\n{r2} 50 1 20\n"
-        )
+        format!("# stop, then one biconvex lens\n0 1 1 {stop}\n{r1} {d} {n} 20\n{r2} 50 1 20\n")
     }
 
     fn single_lens(r1: f32, r2: f32, d: f32, n: f32) -> LensSystem {
-        LensSystem::new(parse_lens_file(&single_lens_file(r1, r2, d, n, 10.0), Path::new("t.dat")).unwrap())
+        LensSystem::new(
+            parse_lens_file(&single_lens_file(r1, r2, d, n, 10.0), Path::new("t.dat")).unwrap(),
+        )
     }
 
     /// The lensmaker's equation for a thick lens in air:
@@ -531,7 +530,10 @@ mod tests {
             let thick = lens.thick_lens(0.035, None).unwrap();
             let expected = lensmaker_focal_length(r1, r2, d, n) / 1000.0;
             let f = thick.focal_length();
-            assert!((f / expected - 1.0).abs() < 2e-3, "{r1} {r2} {d} {n}: {f} vs {expected}");
+            assert!(
+                (f / expected - 1.0).abs() < 2e-3,
+                "{r1} {r2} {d} {n}: {f} vs {expected}"
+            );
         }
     }
 
@@ -558,7 +560,10 @@ mod tests {
         let paraxial = crossing(0.00005);
         assert!((paraxial - 2.0).abs() < 0.002, "{paraxial}");
         let (near, far) = (2.0 - crossing(0.0002), 2.0 - crossing(0.001));
-        assert!(near > 0.0 && (far / near / 25.0 - 1.0).abs() < 0.1, "{near} {far}");
+        assert!(
+            near > 0.0 && (far / near / 25.0 - 1.0).abs() < 0.1,
+            "{near} {far}"
+        );
     }
 
     #[test]
@@ -566,13 +571,23 @@ mod tests {
         // Stop of 4 mm diameter 1 mm in front of the lens: parallel rays
         // from the scene at 1.5 mm pass, at 2.5 mm do not.
         let lens = LensSystem::new(
-            parse_lens_file(&single_lens_file(50.0, -50.0, 5.0, 1.5, 4.0), Path::new("t.dat")).unwrap(),
+            parse_lens_file(
+                &single_lens_file(50.0, -50.0, 5.0, 1.5, 4.0),
+                Path::new("t.dat"),
+            )
+            .unwrap(),
         );
         let z = lens.front_z() + 1.0;
         let down = Vec3::new(0.0, 0.0, -1.0);
-        assert!(lens.trace_from_scene(Vec3::new(0.0015, 0.0, z), down).is_some());
-        assert!(lens.trace_from_scene(Vec3::new(0.0025, 0.0, z), down).is_none());
-        assert!(lens.trace_from_scene(Vec3::new(0.0, -0.0025, z), down).is_none());
+        assert!(lens
+            .trace_from_scene(Vec3::new(0.0015, 0.0, z), down)
+            .is_some());
+        assert!(lens
+            .trace_from_scene(Vec3::new(0.0025, 0.0, z), down)
+            .is_none());
+        assert!(lens
+            .trace_from_scene(Vec3::new(0.0, -0.0025, z), down)
+            .is_none());
     }
 
     #[test]
@@ -585,9 +600,15 @@ mod tests {
         let mut passed = 0;
         for i in 0..40 {
             for j in 0..40 {
-                let p = Vec2::new(-r + 2.0 * r * i as f32 / 39.0, -r + 2.0 * r * j as f32 / 39.0);
+                let p = Vec2::new(
+                    -r + 2.0 * r * i as f32 / 39.0,
+                    -r + 2.0 * r * j as f32 / 39.0,
+                );
                 let film = Vec3::new(0.0005, 0.0, 0.0);
-                if lens.trace_from_film(film, Vec3::new(p.x, p.y, rear_z) - film, None).is_some() {
+                if lens
+                    .trace_from_film(film, Vec3::new(p.x, p.y, rear_z) - film, None)
+                    .is_some()
+                {
                     passed += 1;
                     assert!(bounds.contains(p), "{p} outside {bounds:?}");
                 }
@@ -598,7 +619,8 @@ mod tests {
 
     #[test]
     fn lens_files_allow_comments_and_free_layout() {
-        let text = "# radius thickness eta diameter\n\n 10.5\t2 1.5 8 # first\n-10.5 3\n1 8\n0 1 0 5\n";
+        let text =
+            "# radius thickness eta diameter\n\n 10.5\t2 1.5 8 # first\n-10.5 3\n1 8\n0 1 0 5\n";
         let elements = parse_lens_file(text, Path::new("t.dat")).unwrap();
         assert_eq!(elements.len(), 3);
         assert_eq!(
@@ -617,15 +639,30 @@ mod tests {
     #[test]
     fn a_malformed_number_is_reported_at_its_line_in_the_lens_file() {
         let text = "# header\n10 2 1.5 8\n-10 3 1 8x\n";
-        let e = parse_lens_file(text, Path::new("lenses/bad.dat")).unwrap_err().to_string();
-        assert!(e.contains("lenses/bad.dat:3:9") && e.contains("\"8x\""), "{e}");
+        let e = parse_lens_file(text, Path::new("lenses/bad.dat"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("lenses/bad.dat:3:9") && e.contains("\"8x\""),
+            "{e}"
+        );
         let e = parse_lens_file("10 2 1.5 8\n-10 3 1\n", Path::new("short.dat"))
             .unwrap_err()
             .to_string();
-        assert!(e.contains("short.dat:2:1") && e.contains("multiple of four"), "{e}");
-        let e = parse_lens_file("# nothing\n", Path::new("empty.dat")).unwrap_err().to_string();
-        assert!(e.contains("empty.dat") && e.contains("no lens elements"), "{e}");
-        let e = parse_lens_file("10 2 1.5 0\n", Path::new("zero.dat")).unwrap_err().to_string();
+        assert!(
+            e.contains("short.dat:2:1") && e.contains("multiple of four"),
+            "{e}"
+        );
+        let e = parse_lens_file("# nothing\n", Path::new("empty.dat"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("empty.dat") && e.contains("no lens elements"),
+            "{e}"
+        );
+        let e = parse_lens_file("10 2 1.5 0\n", Path::new("zero.dat"))
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("zero.dat:1:10") && e.contains("diameter"), "{e}");
     }
 }

@@ -109,7 +109,10 @@ impl RealisticCamera {
         }
         if !(film.diagonal > 0.0 && film.diagonal.is_finite()) {
             return scene_error(
-                format!("the film \"diagonal\" must be positive, not {} mm", film.diagonal * 1000.0),
+                format!(
+                    "the film \"diagonal\" must be positive, not {} mm",
+                    film.diagonal * 1000.0
+                ),
                 loc,
             );
         }
@@ -192,7 +195,8 @@ impl RealisticCamera {
     /// from there gets through.
     fn sample_exit_pupil(&self, film: Vec2, u: Vec2) -> Option<(Vec3, f32)> {
         let r = film.length();
-        let band = ((r / (self.film_diagonal / 2.0) * PUPIL_BANDS as f32) as usize).min(PUPIL_BANDS - 1);
+        let band =
+            ((r / (self.film_diagonal / 2.0) * PUPIL_BANDS as f32) as usize).min(PUPIL_BANDS - 1);
         let bounds = self.pupil_bounds[band];
         if bounds.is_degenerate() {
             return None;
@@ -205,7 +209,11 @@ impl RealisticCamera {
         } else {
             (0.0, 1.0)
         };
-        let pupil = Vec3::new(cos * p.x - sin * p.y, sin * p.x + cos * p.y, self.lens.rear_z());
+        let pupil = Vec3::new(
+            cos * p.x - sin * p.y,
+            sin * p.x + cos * p.y,
+            self.lens.rear_z(),
+        );
         Some((pupil, pdf))
     }
 
@@ -216,7 +224,8 @@ impl RealisticCamera {
         let (pupil, pdf) = self.sample_exit_pupil(Vec2::new(film.x, film.y), u)?;
         let to_pupil = pupil - film;
         let (origin, direction, mask_weight) =
-            self.lens.trace_from_film(film, to_pupil, self.mask.as_ref())?;
+            self.lens
+                .trace_from_film(film, to_pupil, self.mask.as_ref())?;
         let cos_theta = to_pupil.normalize().z;
         let rear_z = self.lens.rear_z();
         let weight = mask_weight * cos_theta.powi(4) / (pdf * rear_z * rear_z);
@@ -243,15 +252,22 @@ impl RealisticCamera {
     /// Neighbouring rays one pixel over in x and y, extrapolated from rays
     /// 0.05 pixel over (or back).
     #[allow(clippy::type_complexity)]
-    fn neighbours(&self, ray: &LensRay, p_film: Vec2, u: Vec2) -> Option<((Vec3, Vec3), (Vec3, Vec3))> {
+    fn neighbours(
+        &self,
+        ray: &LensRay,
+        p_film: Vec2,
+        u: Vec2,
+    ) -> Option<((Vec3, Vec3), (Vec3, Vec3))> {
         let along = |axis: Vec2| {
-            [DIFFERENCE_STEP, -DIFFERENCE_STEP].into_iter().find_map(|step| {
-                let shifted = self.camera_space_ray(p_film + axis * step, u)?;
-                Some((
-                    ray.origin + (shifted.origin - ray.origin) / step,
-                    ray.direction + (shifted.direction - ray.direction) / step,
-                ))
-            })
+            [DIFFERENCE_STEP, -DIFFERENCE_STEP]
+                .into_iter()
+                .find_map(|step| {
+                    let shifted = self.camera_space_ray(p_film + axis * step, u)?;
+                    Some((
+                        ray.origin + (shifted.origin - ray.origin) / step,
+                        ray.direction + (shifted.direction - ray.direction) / step,
+                    ))
+                })
         };
         Some((along(Vec2::X)?, along(Vec2::Y)?))
     }
@@ -312,7 +328,8 @@ pub(crate) mod tests {
 
     /// A directory holding `dgauss.50mm.dat`, unique to `name`.
     pub(crate) fn lens_directory(name: &str) -> std::path::PathBuf {
-        let dir = std::env::temp_dir().join(format!("rpbrt-realistic-{name}-{}", std::process::id()));
+        let dir =
+            std::env::temp_dir().join(format!("rpbrt-realistic-{name}-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         std::fs::write(dir.join("dgauss.50mm.dat"), DOUBLE_GAUSS_50MM).unwrap();
         dir
@@ -377,7 +394,11 @@ pub(crate) mod tests {
     fn the_double_gauss_focuses_at_50mm_and_its_centre_rays_meet_at_the_focus_distance() {
         let c = double_gauss(8);
         let thick = realistic(c).lens.thick_lens(0.035, None).unwrap();
-        assert!((thick.focal_length() - 0.050).abs() < 0.002, "{}", thick.focal_length());
+        assert!(
+            (thick.focal_length() - 0.050).abs() < 0.002,
+            "{}",
+            thick.focal_length()
+        );
         // Rays from the film centre: the camera is at z = 5 looking down
         // −z, so the plane in focus is z = 2 (3 m from the film). Their
         // spread there (what spherical aberration leaves) is far smaller
@@ -396,7 +417,10 @@ pub(crate) mod tests {
             n += 1;
         }
         assert!(n > 100, "{n} rays got through");
-        assert!(at_focus < 0.25 * before && at_focus < 1e-3, "{at_focus} vs {before}");
+        assert!(
+            at_focus < 0.25 * before && at_focus < 1e-3,
+            "{at_focus} vs {before}"
+        );
     }
 
     #[test]
@@ -414,8 +438,14 @@ pub(crate) mod tests {
         let wide = double_gauss(17);
         let (centre, centre_direction) = mean(wide, Vec2::new(30.0, 20.0));
         let (corner, _) = mean(wide, Vec2::new(1.0, 1.0));
-        assert!(centre > 0.0 && corner < 0.8 * centre, "{corner} vs {centre}");
-        assert!((centre_direction - Vec3::NEG_Z).length() < 1e-3, "{centre_direction}");
+        assert!(
+            centre > 0.0 && corner < 0.8 * centre,
+            "{corner} vs {centre}"
+        );
+        assert!(
+            (centre_direction - Vec3::NEG_Z).length() < 1e-3,
+            "{centre_direction}"
+        );
         // Top of the image looks up, its right looks to world −x (pbrt's
         // left-handed camera space, as the perspective camera).
         let (_, top) = mean(wide, Vec2::new(30.0, 2.0));
@@ -424,7 +454,10 @@ pub(crate) mod tests {
         assert!(right.x < -0.1 && right.y.abs() < 0.02, "{right}");
         // The light through the stop goes as its area, (8/17)² ≈ 0.22.
         let (small_centre, _) = mean(double_gauss(8), Vec2::new(30.0, 20.0));
-        assert!((small_centre / centre / (8.0f32 / 17.0).powi(2) - 1.0).abs() < 0.2, "{small_centre} vs {centre}");
+        assert!(
+            (small_centre / centre / (8.0f32 / 17.0).powi(2) - 1.0).abs() < 0.2,
+            "{small_centre} vs {centre}"
+        );
         assert!(wide.uses_lens());
     }
 
@@ -439,8 +472,14 @@ pub(crate) mod tests {
         // The film is 35 mm across its diagonal: a pixel is
         // 0.035 / √(60² + 40²) m; at 3 m with f = 50 mm it spans ≈ 59×.
         let pixel = 0.035 / (60.0f32 * 60.0 + 40.0 * 40.0).sqrt() * (2.95 / 0.05);
-        assert!((dpdx.length() / pixel - 1.0).abs() < 0.1, "{dpdx} vs {pixel}");
-        assert!((dpdy.length() / pixel - 1.0).abs() < 0.1, "{dpdy} vs {pixel}");
+        assert!(
+            (dpdx.length() / pixel - 1.0).abs() < 0.1,
+            "{dpdx} vs {pixel}"
+        );
+        assert!(
+            (dpdy.length() / pixel - 1.0).abs() < 0.1,
+            "{dpdy} vs {pixel}"
+        );
     }
 
     #[test]
@@ -454,7 +493,10 @@ pub(crate) mod tests {
         .err()
         .unwrap()
         .to_string();
-        assert!(e.contains("c.pbrt:2:") && e.contains("cannot read") && e.contains("missing.dat"), "{e}");
+        assert!(
+            e.contains("c.pbrt:2:") && e.contains("cannot read") && e.contains("missing.dat"),
+            "{e}"
+        );
         let e = camera_in(&dir, "Camera \"realistic\"", IVec2::new(60, 40))
             .err()
             .unwrap()
@@ -488,7 +530,10 @@ pub(crate) mod tests {
         .err()
         .unwrap()
         .to_string();
-        assert!(e.contains("c.pbrt:2:") && e.contains("cannot read") && e.contains("hexagon.png"), "{e}");
+        assert!(
+            e.contains("c.pbrt:2:") && e.contains("cannot read") && e.contains("hexagon.png"),
+            "{e}"
+        );
         std::fs::remove_dir_all(&dir).ok();
     }
 
@@ -514,6 +559,9 @@ pub(crate) mod tests {
                 .sum::<f32>()
         };
         let (pentagon, circle) = (total(&c), total(double_gauss(8)));
-        assert!((pentagon / circle - 1.0).abs() < 0.2, "{pentagon} vs {circle}");
+        assert!(
+            (pentagon / circle - 1.0).abs() < 0.2,
+            "{pentagon} vs {circle}"
+        );
     }
 }

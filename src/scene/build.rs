@@ -597,7 +597,7 @@ fn create_view(scene: &SceneDescription, overrides: &RenderOverrides) -> Result<
             base_directory: &scene.base_directory,
         },
     )?
-        .with_pixel_jitter(!scene.options.disable_pixel_jitter);
+    .with_pixel_jitter(!scene.options.disable_pixel_jitter);
     film.place_gbuffer(camera.transform());
 
     let seed = overrides.seed.unwrap_or(scene.options.seed);
