@@ -142,6 +142,14 @@ impl RealisticCamera {
                 loc,
             );
         };
+        // A focus that would put the rear element on or behind the film
+        // leaves no room for rays (and divides by its distance below).
+        if rear.is_nan() || rear <= 0.0 {
+            return scene_error(
+                format!("camera \"realistic\": focusing the lens of \"{}\" at {focus_distance} would put its rear element {} mm behind the film", path.display(), -rear * 1000.0),
+                loc,
+            );
+        }
         if let Some(last) = lens.elements.last_mut() {
             last.thickness = rear;
         }
