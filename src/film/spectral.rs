@@ -72,7 +72,7 @@ impl FilmPixel for SpectralPixel {
         let mut l = l;
         let m = l.max_component();
         if m > film.max_component_value() {
-            l = l * (film.max_component_value() / m);
+            l *= film.max_component_value() / m;
         }
         let uniform = 1.0 / (buckets.lambda_max - buckets.lambda_min);
         let count = buckets.count;
