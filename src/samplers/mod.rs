@@ -56,9 +56,12 @@ mod sobol_interval;
 mod sobol_matrices;
 mod sobol_sample;
 mod stratified;
+pub mod summed_area_table;
+pub mod windowed_distribution;
 mod zsobol;
 
 pub use distribution::{Domain2D, PiecewiseConstant1D, PiecewiseConstant2D};
+pub use windowed_distribution::WindowedPiecewiseConstant2D;
 pub use halton::HaltonSampler;
 pub use independent::IndependentSampler;
 pub use padded_sobol::PaddedSobolSampler;
