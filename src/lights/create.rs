@@ -1,6 +1,7 @@
 //! Lights from the scene description.
 
 use super::diffuse_area::EmissionImage;
+use super::portal_infinite::{portal_corners, PortalInfiniteLight};
 use super::{
     DiffuseAreaLight, DistantLight, GoniometricLight, Light, PointLight, ProjectionLight,
     SpotLight, UniformInfiniteLight,
@@ -160,6 +161,9 @@ pub fn create_light(
             };
             Light::Distant(DistantLight { towards_light, radiance, scale, scene_radius: 0.0 })
         }
+        "infinite" if p.find("portal", &[pbrt_parser::ParamType::Point3])?.is_some() => {
+            return create_portal_light(e, render_from_world, render_from_light.to_mat4(), base);
+        }
         "infinite" if p.find("filename", &[pbrt_parser::ParamType::String])?.is_some() => {
             let (filename, filename_at) = p
                 .string_at("filename")?
@@ -169,9 +173,6 @@ pub fn create_light(
             }
             if p.float("illuminance", -1.0)? > 0.0 {
                 return scene_error("infinite light: \"illuminance\" with an image is not supported yet", loc);
-            }
-            if p.find("portal", &[pbrt_parser::ParamType::Point3])?.is_some() {
-                return scene_error("infinite light \"portal\" is not supported yet", loc);
             }
             let path = pbrt_parser::resolve_path(base, &filename);
             let image = crate::image::Image::read(&path)
@@ -196,9 +197,6 @@ pub fn create_light(
             return Ok(Light::ImageInfinite(super::ImageInfiniteLight::new(render_from_light, rgb, image.width() as i32, color_space, scale)));
         }
         "infinite" => {
-            if p.find("portal", &[pbrt_parser::ParamType::Point3])?.is_some() {
-                return scene_error("infinite light \"portal\" is not supported yet", loc);
-            }
             let (radiance, mut scale) = emission(e, "L", base)?;
             let illuminance = p.float("illuminance", -1.0)? as f32;
             if illuminance > 0.0 {
@@ -215,6 +213,91 @@ pub fn create_light(
     };
     p.report_unused(|| format!("light \"{}\"", e.kind))?;
     Ok(created)
+}
+
+/// An `infinite` light with a `portal`: its environment from `filename`,
+/// or else a constant `L` made into a 1×1 sRGB image (pbrt-v4 does the
+/// same; with both, the image wins and `L` is ignored, as in pbrt-v4).
+fn create_portal_light(
+    e: &Entity,
+    render_from_world: &Transform,
+    render_from_light: glam::Mat4,
+    base: &Path,
+) -> Result<Light> {
+    let p = &e.params;
+    let loc = &e.location.0;
+    let portal_at = p
+        .find("portal", &[pbrt_parser::ParamType::Point3])?
+        .map_or_else(|| loc.clone(), |q| q.location.clone());
+    // pbrt-v4 places the portal with the camera's render-from-world
+    // transform, not the light's own transform.
+    let corners: Vec<Vec3> = p
+        .point3s("portal")?
+        .into_iter()
+        .map(|c| render_from_world.point(c).as_vec3())
+        .collect();
+    let corners = match portal_corners(&corners) {
+        Ok(corners) => corners,
+        Err(problem) => return scene_error(format!("infinite light: {problem}"), &portal_at),
+    };
+    if p.float("illuminance", -1.0)? > 0.0 {
+        return scene_error(
+            "infinite light: \"illuminance\" with a portal is not supported yet",
+            loc,
+        );
+    }
+    let l = spectrum_param(p, "L", SpectrumKind::Illuminant, e.color_space, base)?;
+    let srgb = crate::spectrum::color_space::get(crate::scene_description::ColorSpaceName::Srgb);
+    let has_filename = p
+        .find("filename", &[pbrt_parser::ParamType::String])?
+        .is_some();
+    let image = if has_filename {
+        let LightImage {
+            image,
+            filename,
+            filename_at,
+        } = light_image(e, "infinite light", base)?;
+        let Some(image) = image.to_linear().select_channels(&["R", "G", "B"]) else {
+            return scene_error(
+                format!("infinite light: \"{filename}\" has no R, G and B channels"),
+                &filename_at,
+            );
+        };
+        if image.width() != image.height() {
+            return scene_error(
+                format!(
+                    "infinite light: \"{filename}\" is {}×{}, not square: it is unlikely to be an equal-area environment map",
+                    image.width(),
+                    image.height()
+                ),
+                &filename_at,
+            );
+        }
+        image
+    } else if let Some(l) = l {
+        // pbrt-v4 converts the spectrum to sRGB by way of XYZ.
+        let rgb = srgb.to_rgb(crate::spectrum::xyz::spectrum_to_xyz(&l));
+        match crate::image::Image::from_rgb(1, 1, rgb.to_array().to_vec()) {
+            Ok(image) => image,
+            Err(problem) => return scene_error(format!("infinite light: {problem}"), loc),
+        }
+    } else {
+        return scene_error(
+            "infinite light: a \"portal\" needs an environment: \"filename\" (an equal-area image) or \"L\"",
+            &portal_at,
+        );
+    };
+    // Images carry no colour space here: linear sRGB (pbrt-v4's default
+    // when the file names none).
+    let scale = p.float("scale", 1.0)? as f32 / photometric(&srgb.illuminant);
+    p.report_unused(|| "light \"infinite\"".into())?;
+    Ok(Light::PortalInfinite(PortalInfiniteLight::new(
+        render_from_light,
+        &image,
+        srgb,
+        scale,
+        corners,
+    )))
 }
 
 /// The `AreaLightSource "diffuse"` of one Shape directive, read once and

@@ -298,7 +298,10 @@ pub fn light_bounds(light: &Light, shapes: &ShapeStorage) -> Option<LightBounds>
                 two_sided: l.two_sided,
             })
         }
-        Light::Distant(_) | Light::UniformInfinite(_) | Light::ImageInfinite(_) => None,
+        Light::Distant(_)
+        | Light::UniformInfinite(_)
+        | Light::ImageInfinite(_)
+        | Light::PortalInfinite(_) => None,
     }
 }
 

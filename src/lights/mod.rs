@@ -10,6 +10,7 @@ pub mod goniometric;
 pub mod image_infinite;
 pub mod light_bounds;
 pub mod point;
+pub mod portal_infinite;
 pub mod projection;
 pub mod sampler;
 pub mod spot;
@@ -21,6 +22,7 @@ pub use distant::DistantLight;
 pub use goniometric::GoniometricLight;
 pub use image_infinite::ImageInfiniteLight;
 pub use point::PointLight;
+pub use portal_infinite::PortalInfiniteLight;
 pub use projection::ProjectionLight;
 pub use sampler::LightSampler;
 pub use spot::SpotLight;
@@ -135,6 +137,7 @@ pub enum Light {
     Distant(DistantLight),
     UniformInfinite(UniformInfiniteLight),
     ImageInfinite(ImageInfiniteLight),
+    PortalInfinite(PortalInfiniteLight),
     DiffuseArea(DiffuseAreaLight),
 }
 
@@ -145,7 +148,9 @@ impl Light {
                 LightKind::DeltaPosition
             }
             Light::Distant(_) => LightKind::DeltaDirection,
-            Light::UniformInfinite(_) | Light::ImageInfinite(_) => LightKind::Infinite,
+            Light::UniformInfinite(_) | Light::ImageInfinite(_) | Light::PortalInfinite(_) => {
+                LightKind::Infinite
+            }
             Light::DiffuseArea(_) => LightKind::Area,
         }
     }
@@ -183,6 +188,7 @@ impl Light {
             Light::Distant(l) => l.sample_li(ctx, lambda),
             Light::UniformInfinite(l) => l.sample_li(ctx, u, lambda, allow_incomplete_pdf),
             Light::ImageInfinite(l) => l.sample_li(ctx, u, allow_incomplete_pdf),
+            Light::PortalInfinite(l) => l.sample_li(ctx, u, lambda),
             Light::DiffuseArea(l) => l.sample_li(ctx, u, lambda, shapes),
         }
     }
@@ -212,6 +218,7 @@ impl Light {
             | Light::Distant(_) => 0.0,
             Light::UniformInfinite(l) => l.pdf_li(allow_incomplete_pdf),
             Light::ImageInfinite(l) => l.pdf_li(wi, allow_incomplete_pdf),
+            Light::PortalInfinite(l) => l.pdf_li(ctx, wi),
             Light::DiffuseArea(l) => l.pdf_li(ctx, wi, shapes),
         }
     }
@@ -221,6 +228,7 @@ impl Light {
         match self {
             Light::UniformInfinite(l) => l.le(lambda),
             Light::ImageInfinite(l) => l.le(ray.direction, lambda),
+            Light::PortalInfinite(l) => l.le(ray, lambda),
             _ => SampledSpectrum::ZERO,
         }
     }
@@ -235,6 +243,7 @@ impl Light {
             Light::Distant(l) => l.phi(lambda),
             Light::UniformInfinite(l) => l.phi(lambda),
             Light::ImageInfinite(l) => l.phi(lambda),
+            Light::PortalInfinite(l) => l.phi(lambda),
             Light::DiffuseArea(l) => l.phi(lambda, shapes),
         }
     }
@@ -246,6 +255,7 @@ impl Light {
             Light::Distant(l) => l.preprocess(scene_center, scene_radius),
             Light::UniformInfinite(l) => l.preprocess(scene_center, scene_radius),
             Light::ImageInfinite(l) => l.preprocess(scene_center, scene_radius),
+            Light::PortalInfinite(l) => l.preprocess(scene_center, scene_radius),
             _ => {}
         }
     }
