@@ -3,6 +3,8 @@
 //! as bright as with the plain environment light and with less noise;
 //! unusable portals are errors that name where and why.
 
+mod common;
+
 use rpbrt::image::Image;
 use rpbrt::scene::build::RenderOverrides;
 use std::path::{Path, PathBuf};
@@ -197,4 +199,35 @@ fn unusable_portals_are_located_errors() {
         // The light is on line 6 of the scene.
         assert!(message.contains("scene.pbrt:6:"), "{message}");
     }
+}
+
+/// A non-RGB `L` with a portal is reduced to RGB, with pbrt-v4's warning
+/// pointing at `L`; an RGB one is not warned about.
+#[test]
+fn a_spectral_l_with_a_portal_is_warned_about() {
+    let dir = common::fresh_dir("portal", "warning");
+    let run = |l: &str| {
+        let path = dir.join("scene.pbrt");
+        std::fs::write(
+            &path,
+            room(&format!("LightSource \"infinite\" {l} {PORTAL}")),
+        )
+        .unwrap();
+        let out = dir.join("out.exr");
+        let output = common::rpbrt(&[
+            "--spp".as_ref(),
+            "2".as_ref(),
+            "--outfile".as_ref(),
+            out.as_os_str(),
+            path.as_os_str(),
+        ]);
+        assert!(output.status.success(), "{output:?}");
+        String::from_utf8_lossy(&output.stderr).into_owned()
+    };
+    let warned = run("\"blackbody L\" 5500");
+    assert!(
+        warned.contains("scene.pbrt:6:") && warned.contains("\"L\" is not RGB"),
+        "{warned}"
+    );
+    assert!(!run("\"rgb L\" [1 1 1]").contains("not RGB"));
 }

@@ -300,6 +300,25 @@ fn create_portal_light(
     )))
 }
 
+/// pbrt-v4's warning for an `infinite` light with a `portal`, no
+/// `filename` and an `L` that is not RGB: the spectrum is reduced to sRGB
+/// RGB to fill the portal light's image.
+pub fn portal_light_warning(light: &scene_description::Light) -> Option<pbrt_parser::Warning> {
+    let p = &light.entity.params;
+    let named = |name: &str| p.iter().any(|q| q.name == name);
+    if light.entity.kind != "infinite" || !named("portal") || named("filename") {
+        return None;
+    }
+    let l = p.iter().filter(|q| q.name == "L").last()?;
+    if l.ty == pbrt_parser::ParamType::Rgb {
+        return None;
+    }
+    Some(pbrt_parser::Warning {
+        message: "infinite light: \"L\" is not RGB: converted to sRGB RGB so that a portal light can be used (as pbrt-v4 does)".into(),
+        location: l.location.clone(),
+    })
+}
+
 /// The `AreaLightSource "diffuse"` of one Shape directive, read once and
 /// made into a light per shape by [`AreaLightTemplate::light`].
 pub struct AreaLightTemplate {
