@@ -75,7 +75,11 @@ fn write_environment(dir: &Path) {
         } else {
             0.0
         };
-        data.extend([0.3 * centre + patch, 0.4 * centre + patch, 0.6 * centre + patch]);
+        data.extend([
+            0.3 * centre + patch,
+            0.4 * centre + patch,
+            0.6 * centre + patch,
+        ]);
     }
     Image::from_rgb(n as u32, n as u32, data)
         .unwrap()
@@ -118,7 +122,10 @@ fn a_portal_renders_the_room_as_bright_with_less_noise() {
         .map(|seed| render(&dir, &room(&light("")), seed).unwrap())
         .collect();
     for image in with_portal.iter().chain(&without) {
-        assert!(image.data().iter().all(|v| v.is_finite()), "NaN or infinity");
+        assert!(
+            image.data().iter().all(|v| v.is_finite()),
+            "NaN or infinity"
+        );
     }
     let (portal_mean, plain_mean) = (
         (mean(&with_portal[0]) + mean(&with_portal[1])) / 2.0,
@@ -158,7 +165,10 @@ fn a_portal_with_l_is_lit_as_by_the_uniform_light() {
     .unwrap();
     assert!(portal.data().iter().all(|v| v.is_finite()));
     let (a, b) = (mean(&portal), mean(&uniform));
-    assert!(a > 0.0 && (a - b).abs() < 0.06 * b, "portal {a} vs uniform {b}");
+    assert!(
+        a > 0.0 && (a - b).abs() < 0.06 * b,
+        "portal {a} vs uniform {b}"
+    );
 }
 
 /// Each unusable portal is refused at the parameter, saying why.

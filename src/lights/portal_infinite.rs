@@ -280,8 +280,8 @@ impl PortalInfiniteLight {
             let (_, dw_duv) = render_from_image(&self.frame, uv);
             sum += self.texel_le(i, lambda) / dw_duv;
         }
-        let area = (self.portal[1] - self.portal[0]).length()
-            * (self.portal[3] - self.portal[0]).length();
+        let area =
+            (self.portal[1] - self.portal[0]).length() * (self.portal[3] - self.portal[0]).length();
         sum * (area / (n * n) as f32)
     }
 }
@@ -374,7 +374,10 @@ mod tests {
         let bent = [w[0], w[1], w[2] + Vec3::Y * 0.2, w[3]];
         assert_eq!(portal_corners(&bent), Err(PortalShapeError::NotRectangle));
         let crossed = [w[0], w[2], w[1], w[3]];
-        assert_eq!(portal_corners(&crossed), Err(PortalShapeError::NotRectangle));
+        assert_eq!(
+            portal_corners(&crossed),
+            Err(PortalShapeError::NotRectangle)
+        );
         assert!(portal_corners(&w).is_ok());
     }
 
@@ -404,7 +407,10 @@ mod tests {
             // within the window (round-off allowed at its edges).
             let t = (2.0 - p.y) / s.wi.y;
             let hit = p + s.wi * t;
-            assert!(t > 0.0 && hit.x.abs() <= 0.501 && hit.z.abs() <= 0.501, "{hit}");
+            assert!(
+                t > 0.0 && hit.x.abs() <= 0.501 && hit.z.abs() <= 0.501,
+                "{hit}"
+            );
             let ray = Ray::new(p, s.wi, 0.0);
             let seen = light.le(&ray, &lambda);
             let carried = s.l.value(&lambda);
@@ -414,7 +420,11 @@ mod tests {
         }
         // Nothing is lit from above the portal, nor away from it.
         assert!(light
-            .sample_li(&context(Vec3::new(0.0, 3.0, 0.0)), Vec2::splat(0.5), &lambda)
+            .sample_li(
+                &context(Vec3::new(0.0, 3.0, 0.0)),
+                Vec2::splat(0.5),
+                &lambda
+            )
             .is_none());
         assert_eq!(light.pdf_li(&ctx, -Vec3::Y), 0.0);
     }
@@ -437,8 +447,7 @@ mod tests {
                 ((j / m) as f32 + 0.5) / m as f32,
             );
             if let Some(s) = light.sample_li(&ctx, u, &lambda) {
-                estimate +=
-                    (s.l.value(&lambda).0[0] * s.wi.dot(n).max(0.0) / s.pdf) as f64;
+                estimate += (s.l.value(&lambda).0[0] * s.wi.dot(n).max(0.0) / s.pdf) as f64;
             }
         }
         estimate /= (m * m) as f64;

@@ -61,7 +61,6 @@ pub mod windowed_distribution;
 mod zsobol;
 
 pub use distribution::{Domain2D, PiecewiseConstant1D, PiecewiseConstant2D};
-pub use windowed_distribution::WindowedPiecewiseConstant2D;
 pub use halton::HaltonSampler;
 pub use independent::IndependentSampler;
 pub use padded_sobol::PaddedSobolSampler;
@@ -71,6 +70,7 @@ pub use randomize_strategy::RandomizeStrategy;
 pub use sobol::SobolSampler;
 pub use sobol_matrices::SOBOL_DIMENSIONS;
 pub use stratified::StratifiedSampler;
+pub use windowed_distribution::WindowedPiecewiseConstant2D;
 pub use zsobol::ZSobolSampler;
 
 use crate::error::{scene_error, Result};

@@ -28,7 +28,11 @@ impl SummedAreaTable {
             let mut row = 0.0f64;
             for x in 0..width {
                 row += values[y * width + x] as f64 * cell_area;
-                let below = if y > 0 { sums[(y - 1) * width + x] } else { 0.0 };
+                let below = if y > 0 {
+                    sums[(y - 1) * width + x]
+                } else {
+                    0.0
+                };
                 sums[y * width + x] = row + below;
             }
         }

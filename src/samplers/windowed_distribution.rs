@@ -52,11 +52,7 @@ impl WindowedPiecewiseConstant2D {
         // The marginal in x: the integral over [min.x, x] × the window's
         // height, as a fraction of the window's.
         let nx = self.table.width();
-        let marginal = |x: f32| {
-            self.table
-                .integral(window.min, Vec2::new(x, window.max.y))
-                / total
-        };
+        let marginal = |x: f32| self.table.integral(window.min, Vec2::new(x, window.max.y)) / total;
         let x = invert_cdf(marginal, u.x, window.min.x, window.max.x, nx);
 
         // The conditional in y: within the column holding x (the function

@@ -416,7 +416,12 @@ pub fn build(mut description: SceneDescription, overrides: &RenderOverrides) -> 
         integrator.texture_filtering,
         base,
     ));
-    warnings.extend(scene.lights.iter().filter_map(lights::create::portal_light_warning));
+    warnings.extend(
+        scene
+            .lights
+            .iter()
+            .filter_map(lights::create::portal_light_warning),
+    );
 
     let context = placed_shapes::Context {
         scene,
