@@ -66,12 +66,13 @@ pub fn portal_corners(corners: &[Vec3]) -> Result<[Vec3; 4], PortalShapeError> {
     let (p01, p12, p32, p03) = (edge(0, 1)?, edge(1, 2)?, edge(3, 2)?, edge(0, 3)?);
     let parallel = |a: Vec3, b: Vec3| (a.dot(b) - 1.0).abs() <= EDGE_COSINE_TOLERANCE;
     let perpendicular = |a: Vec3, b: Vec3| a.dot(b).abs() <= EDGE_COSINE_TOLERANCE;
-    if !(parallel(p01, p32) && parallel(p12, p03))
-        || !(perpendicular(p01, p12)
-            && perpendicular(p12, p32)
-            && perpendicular(p32, p03)
-            && perpendicular(p03, p01))
-    {
+    let rectangle = parallel(p01, p32)
+        && parallel(p12, p03)
+        && perpendicular(p01, p12)
+        && perpendicular(p12, p32)
+        && perpendicular(p32, p03)
+        && perpendicular(p03, p01);
+    if !rectangle {
         return Err(PortalShapeError::NotRectangle);
     }
     Ok([p0, p1, p2, p3])

@@ -234,9 +234,9 @@ mod tests {
             counts[y * w + x] += 1;
         }
         let total: f32 = d.values.iter().sum();
-        for i in 0..w * h {
-            let expected = d.values[i] / total * count as f32;
-            let got = counts[i] as f32;
+        for (i, (&value, &got)) in d.values.iter().zip(&counts).enumerate() {
+            let expected = value / total * count as f32;
+            let got = got as f32;
             assert!(
                 (got - expected).abs() <= 0.01 * expected + 2.0,
                 "cell {i}: {got} vs {expected}"
