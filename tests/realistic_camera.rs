@@ -1,8 +1,7 @@
 //! The realistic camera in rendered scenes: a double-Gauss lens read from
-//! a lens file beside the scene, looking at a checkerboard.
+//! a lens file, looking at a checkerboard.
 
-use rpbrt::image::Image;
-use rpbrt::scene::build::RenderOverrides;
+mod common;
 
 /// The double-Gauss 50 mm f/2 of US patent 2,673,491 (Tronnier), as
 /// "Modern Lens Design" lists it, scaled from 100 mm to 50 mm.
@@ -21,32 +20,30 @@ const DOUBLE_GAUSS_50MM: &str = "\
 -39.73    0       1       20
 ";
 
-/// Renders `scene` with the lens file in a `lenses/` folder beside it.
-fn render(name: &str, scene: &str, spp: u32) -> Image {
-    let dir = std::env::temp_dir().join(format!("rpbrt-realistic-{name}-{}", std::process::id()));
-    std::fs::create_dir_all(dir.join("lenses")).unwrap();
-    std::fs::write(dir.join("lenses/dgauss.50mm.dat"), DOUBLE_GAUSS_50MM).unwrap();
-    let path = dir.join("scene.pbrt");
-    std::fs::write(&path, scene).unwrap();
-    let out = dir.join("out.exr");
-    let overrides = RenderOverrides {
-        spp: Some(spp),
-        outfile: Some(out.clone()),
-        ..Default::default()
-    };
-    rpbrt::pipeline::render_file(&path, &overrides, 2, false).unwrap();
-    let image = Image::read(&out).unwrap();
+/// Renders `scene` with its lens file written to a folder of its own
+/// (named in the scene by its absolute path).
+fn render(name: &str, scene: &dyn Fn(&str) -> String, spp: u32) -> Vec<f64> {
+    let dir = common::fresh_dir("realistic", name);
+    let lens = dir.join("dgauss.50mm.dat");
+    std::fs::write(&lens, DOUBLE_GAUSS_50MM).unwrap();
+    let image = common::render_text(
+        &format!("realistic-{name}"),
+        &scene(&lens.display().to_string()),
+        spp,
+        2,
+        Default::default(),
+    );
     std::fs::remove_dir_all(&dir).ok();
-    image
+    common::channel_averages(&image)
 }
 
 /// A checkerboard (10 cm checks, reflectance 0.8 and 0.1) filling the
 /// view 2 m in front of the film, under a white sky, seen through the
 /// double-Gauss at about f/3 focused at `focus` m.
-fn checkerboard(focus: f32) -> String {
+fn checkerboard(focus: f32, lens_file: &str) -> String {
     format!(
         "LookAt 0 0 2  0 0 0  0 1 0\n\
-        Camera \"realistic\" \"string lensfile\" \"lenses/dgauss.50mm.dat\" \"float aperturediameter\" 17 \"float focusdistance\" {focus}\n\
+        Camera \"realistic\" \"string lensfile\" \"{lens_file}\" \"float aperturediameter\" 17 \"float focusdistance\" {focus}\n\
         Film \"rgb\" \"integer xresolution\" 48 \"integer yresolution\" 32 \"float diagonal\" 35\n\
         Sampler \"halton\"\n\
         WorldBegin\n\
@@ -58,23 +55,15 @@ fn checkerboard(focus: f32) -> String {
 }
 
 /// Mean and standard deviation of the grey values in the middle half of
-/// the image (each way); every pixel must be finite.
-fn middle_statistics(image: &Image) -> (f64, f64) {
-    assert!(image.first_non_finite().is_none(), "a non-finite pixel");
-    let (w, h) = (image.width(), image.height());
-    let values: Vec<f64> = (h / 4..3 * h / 4)
-        .flat_map(|y| (w / 4..3 * w / 4).map(move |x| (x, y)))
-        .map(|(x, y)| {
-            image.pixel(x, y)[..3]
-                .iter()
-                .map(|&v| v as f64)
-                .sum::<f64>()
-                / 3.0
-        })
+/// the 48 × 32 image (each way).
+fn middle_statistics(values: &[f64]) -> (f64, f64) {
+    let (w, h) = (48, 32);
+    let middle: Vec<f64> = (h / 4..3 * h / 4)
+        .flat_map(|y| (w / 4..3 * w / 4).map(move |x| values[y * w + x]))
         .collect();
-    let mean = values.iter().sum::<f64>() / values.len() as f64;
+    let mean = middle.iter().sum::<f64>() / middle.len() as f64;
     let variance =
-        values.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / values.len() as f64;
+        middle.iter().map(|v| (v - mean) * (v - mean)).sum::<f64>() / middle.len() as f64;
     (mean, variance.sqrt())
 }
 
@@ -83,8 +72,8 @@ fn middle_statistics(image: &Image) -> (f64, f64) {
 /// blur (about a check wide) averages them out.
 #[test]
 fn the_plane_in_focus_is_sharp_and_a_defocused_one_blurred() {
-    let sharp = render("sharp", &checkerboard(2.0), 16);
-    let blurred = render("blurred", &checkerboard(0.4), 16);
+    let sharp = render("sharp", &|lens| checkerboard(2.0, lens), 16);
+    let blurred = render("blurred", &|lens| checkerboard(0.4, lens), 16);
     let (sharp_mean, sharp_deviation) = middle_statistics(&sharp);
     let (blurred_mean, blurred_deviation) = middle_statistics(&blurred);
     eprintln!(
