@@ -17,7 +17,7 @@
 
 use super::cuboid::Cuboid;
 use super::grid::cuboid;
-use super::{scattering_coefficients, MajorantSegment, MediumProperties};
+use super::{extinction, scattering_coefficients, MajorantSegment, MediumProperties};
 use crate::error::Result;
 use crate::math::{Ray, Transform};
 use crate::scene_description::Entity;
@@ -89,12 +89,14 @@ impl CloudMedium {
         // pbrt-v4 evaluates the cloud at the medium-space point itself, not
         // at its place in the box.
         let d = self.density_at(self.cuboid.medium_point(p)) * self.scale;
-        MediumProperties {
-            sigma_a: self.sigma_a.sample(lambda) * d,
-            sigma_s: self.sigma_s.sample(lambda) * d,
-            le: SampledSpectrum::ZERO,
-            g: self.g,
-        }
+        MediumProperties::at_density(
+            &self.sigma_a,
+            &self.sigma_s,
+            d,
+            SampledSpectrum::ZERO,
+            self.g,
+            lambda,
+        )
     }
 
     /// The density is at most 1: σt itself bounds the box.
@@ -105,7 +107,7 @@ impl CloudMedium {
         lambda: &SampledWavelengths,
     ) -> Option<MajorantSegment> {
         self.cuboid.majorant(ray, t_max, || {
-            (self.sigma_a.sample(lambda) + self.sigma_s.sample(lambda)) * self.scale
+            extinction(&self.sigma_a, &self.sigma_s, lambda) * self.scale
         })
     }
 }

@@ -17,7 +17,9 @@
 
 use super::cuboid::Cuboid;
 use super::sampled_grid::SampledGrid;
-use super::{blackbody_glow, scattering_coefficients, MajorantSegment, MediumProperties};
+use super::{
+    blackbody_glow, extinction, scattering_coefficients, MajorantSegment, MediumProperties,
+};
 use crate::error::{scene_error, Result};
 use crate::math::{Ray, Transform};
 use crate::scene_description::Entity;
@@ -206,12 +208,7 @@ impl GridMedium {
                 }
             }
         };
-        MediumProperties {
-            sigma_a: self.sigma_a.sample(lambda) * d,
-            sigma_s: self.sigma_s.sample(lambda) * d,
-            le,
-            g: self.g,
-        }
+        MediumProperties::at_density(&self.sigma_a, &self.sigma_s, d, le, self.g, lambda)
     }
 
     pub fn majorant(
@@ -221,8 +218,7 @@ impl GridMedium {
         lambda: &SampledWavelengths,
     ) -> Option<MajorantSegment> {
         self.cuboid.majorant(ray, t_max, || {
-            let sigma_t = self.sigma_a.sample(lambda) + self.sigma_s.sample(lambda);
-            sigma_t * (self.scale * self.max_density)
+            extinction(&self.sigma_a, &self.sigma_s, lambda) * (self.scale * self.max_density)
         })
     }
 }

@@ -10,7 +10,9 @@
 //! | `Le`      | spectrum | 0 | emitted radiance (an illuminant spectrum, divided by its luminance as a light's) |
 //! | `Lescale` | float | 1 | multiplies `Le` |
 
-use super::{emission_norm, scattering_coefficients, MajorantSegment, MediumProperties};
+use super::{
+    emission_norm, extinction, scattering_coefficients, MajorantSegment, MediumProperties,
+};
 use crate::error::{scene_error, Result};
 use crate::scene_description::Entity;
 use crate::spectrum::color_space::SpectrumKind;
@@ -59,12 +61,14 @@ impl HomogeneousMedium {
     }
 
     pub fn sample_point(&self, lambda: &SampledWavelengths) -> MediumProperties {
-        MediumProperties {
-            sigma_a: self.sigma_a.sample(lambda) * self.scale,
-            sigma_s: self.sigma_s.sample(lambda) * self.scale,
-            le: self.le.sample(lambda) * self.le_scale,
-            g: self.g,
-        }
+        MediumProperties::at_density(
+            &self.sigma_a,
+            &self.sigma_s,
+            self.scale,
+            self.le.sample(lambda) * self.le_scale,
+            self.g,
+            lambda,
+        )
     }
 
     /// σt itself, along the whole ray.
@@ -72,7 +76,7 @@ impl HomogeneousMedium {
         MajorantSegment {
             t_min: 0.0,
             t_max,
-            sigma_maj: (self.sigma_a.sample(lambda) + self.sigma_s.sample(lambda)) * self.scale,
+            sigma_maj: extinction(&self.sigma_a, &self.sigma_s, lambda) * self.scale,
         }
     }
 }

@@ -59,6 +59,35 @@ pub struct MediumProperties {
     pub g: f32,
 }
 
+impl MediumProperties {
+    /// The coefficients of a medium whose σa and σs spectra are scaled by
+    /// `density` at this point (every medium here is one), emitting `le`.
+    pub(crate) fn at_density(
+        sigma_a: &Spectrum,
+        sigma_s: &Spectrum,
+        density: f32,
+        le: SampledSpectrum,
+        g: f32,
+        lambda: &SampledWavelengths,
+    ) -> Self {
+        MediumProperties {
+            sigma_a: sigma_a.sample(lambda) * density,
+            sigma_s: sigma_s.sample(lambda) * density,
+            le,
+            g,
+        }
+    }
+}
+
+/// σt = σa + σs of the unscaled spectra at `lambda` (a majorant's base).
+pub(crate) fn extinction(
+    sigma_a: &Spectrum,
+    sigma_s: &Spectrum,
+    lambda: &SampledWavelengths,
+) -> SampledSpectrum {
+    sigma_a.sample(lambda) + sigma_s.sample(lambda)
+}
+
 /// A stretch `t_min..t_max` of a ray (unit direction) where σt ≤ `sigma_maj`.
 #[derive(Clone, Copy, Debug)]
 pub struct MajorantSegment {

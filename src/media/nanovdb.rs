@@ -31,7 +31,9 @@
 
 use super::cuboid::Cuboid;
 use super::nanovdb_file::{grid_class_name, read_grid, FloatGrid};
-use super::{blackbody_glow, scattering_coefficients, MajorantSegment, MediumProperties};
+use super::{
+    blackbody_glow, extinction, scattering_coefficients, MajorantSegment, MediumProperties,
+};
 use crate::error::{scene_error, unreadable_file, Result};
 use crate::math::{Ray, Transform};
 use crate::scene_description::Entity;
@@ -155,12 +157,7 @@ impl NanoVdbMedium {
                 blackbody_glow(kelvin, t.le_scale, lambda)
             }
         };
-        MediumProperties {
-            sigma_a: self.sigma_a.sample(lambda) * d,
-            sigma_s: self.sigma_s.sample(lambda) * d,
-            le,
-            g: self.g,
-        }
+        MediumProperties::at_density(&self.sigma_a, &self.sigma_s, d, le, self.g, lambda)
     }
 
     pub fn majorant(
@@ -170,8 +167,7 @@ impl NanoVdbMedium {
         lambda: &SampledWavelengths,
     ) -> Option<MajorantSegment> {
         self.cuboid.majorant(ray, t_max, || {
-            let sigma_t = self.sigma_a.sample(lambda) + self.sigma_s.sample(lambda);
-            sigma_t * (self.scale * self.max_density)
+            extinction(&self.sigma_a, &self.sigma_s, lambda) * (self.scale * self.max_density)
         })
     }
 }
