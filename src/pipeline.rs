@@ -63,9 +63,10 @@ pub fn render_file(
     show_progress: bool,
 ) -> Result<RenderReport> {
     let start = Instant::now();
-    // Nearly every scene converts RGB to spectra through the sRGB table
-    // (9 MB from the disk cache: 30–40 ms); read it on another core while
-    // this one parses. Another colour space's table is read when used.
+    // Nearly every scene converts RGB to spectra through the sRGB table;
+    // check its disk cache file (9 MB read through for its checksum; rows
+    // are read later, as lookups need them) on another core while this one
+    // parses. Another colour space's table is opened when used.
     std::thread::spawn(|| {
         crate::spectrum::color_space::get(ColorSpaceName::Srgb).rgb_to_spectrum_table();
     });

@@ -233,7 +233,13 @@ impl RgbColorSpace {
         let fingerprint = self.table_fingerprint();
         let path = cache::cache_directory()
             .map(|dir| cache::cache_file(&dir, color_space_file_name(self.name), fingerprint));
-        if let Some(table) = path.as_deref().and_then(|p| cache::load(p, fingerprint)) {
+        // Rows are read from the file as lookups need them.
+        if let Some(table) = path
+            .as_deref()
+            .and_then(|p| cache::CachedRows::open(p, fingerprint))
+            .filter(|cached| cached.resolution() == TABLE_RESOLUTION)
+            .and_then(|cached| RgbToSpectrumTable::from_cache(cached, self.fit_problem()))
+        {
             return table;
         }
         let start = Instant::now();
@@ -241,7 +247,13 @@ impl RgbColorSpace {
         log_fit_time(self.name, start.elapsed().as_secs_f64());
         if let Some(path) = path {
             // Not being able to cache only costs time on the next run.
-            let _ = cache::store(&path, &table, fingerprint);
+            let _ = cache::store(
+                &path,
+                table.resolution(),
+                table.z_nodes(),
+                table.rows(),
+                fingerprint,
+            );
         }
         table
     }

@@ -5,27 +5,51 @@
 //! The grid is indexed by which component is largest (3 tables), that
 //! largest value z (64 steps, packed towards 0 and 1 by a double
 //! smoothstep, where spectra change fastest), and the other two components
-//! divided by z (64 × 64). Fitting every entry is done here, at first use,
-//! walking each line of constant chromaticity outward from z ≈ 0.2 so each
-//! fit starts from its neighbour's solution.
+//! divided by z (64 × 64). Fitting every entry is done once per machine
+//! (then kept in the disk cache, `rgb_to_spectrum_cache`), walking each
+//! line of constant chromaticity outward from z ≈ 0.2 so each fit starts
+//! from its neighbour's solution.
+//!
+//! The table is held as rows (one largest component, z and y; every x),
+//! each read from the cache file the first time a lookup needs it: a
+//! scene's colours touch a small part of the 9 MB. A row that cannot be
+//! read is fitted again, along the same lines from the same starting
+//! points, so it holds exactly the coefficients the file would have.
+
+use std::sync::OnceLock;
 
 use glam::{DVec3, Vec3};
 use rayon::prelude::*;
 
+use super::rgb_to_spectrum_cache::CachedRows;
 use super::rgb_to_spectrum_fit::{to_wavelength_polynomial, FitProblem};
 use super::sigmoid_polynomial::RgbSigmoidPolynomial;
 
 /// Grid steps along each axis (pbrt-v4's tables use 64).
 pub const TABLE_RESOLUTION: usize = 64;
 
+/// One row: the three coefficients at each x step.
+type Row = Box<[[f32; 3]]>;
+
 /// Fitted coefficients for every grid RGB of one colour space.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Debug)]
 pub struct RgbToSpectrumTable {
     resolution: usize,
     /// The z value of each grid step, increasing from 0 to 1.
     z_nodes: Vec<f32>,
-    /// `[max component][z][y][x][coefficient]`, flattened.
-    coefficients: Vec<f32>,
+    /// `[max component][z][y]`, flattened; each filled on first use
+    /// from `source`.
+    rows: Box<[OnceLock<Row>]>,
+    /// Where rows not yet filled come from; `None` when all are.
+    source: Option<RowSource>,
+}
+
+/// The cache file rows are read from, and the fit that makes a row the
+/// file cannot give.
+#[derive(Debug)]
+struct RowSource {
+    file: Option<CachedRows>,
+    problem: FitProblem,
 }
 
 /// Double smoothstep: the z spacing, dense near black and near full
@@ -35,49 +59,75 @@ fn z_node(k: usize, resolution: usize) -> f32 {
     smoothstep(smoothstep(k as f64 / (resolution - 1) as f64)) as f32
 }
 
+fn z_nodes(resolution: usize) -> Vec<f32> {
+    (0..resolution).map(|k| z_node(k, resolution)).collect()
+}
+
 impl RgbToSpectrumTable {
     /// Fits the whole table for `problem`, in parallel.
     pub fn compute(problem: &FitProblem, resolution: usize) -> Self {
         let resolution = resolution.max(2);
-        let z_nodes: Vec<f32> = (0..resolution).map(|k| z_node(k, resolution)).collect();
+        let z_nodes = z_nodes(resolution);
         // One job per (largest component, y): each walks all (x, z).
-        let lines: Vec<Vec<[f32; 3]>> = (0..3 * resolution)
+        let planes: Vec<Vec<[f32; 3]>> = (0..3 * resolution)
             .into_par_iter()
             .map(|job| fit_plane(problem, &z_nodes, job / resolution, job % resolution))
             .collect();
-        let mut coefficients = vec![0.0_f32; 3 * resolution.pow(3) * 3];
-        for (job, plane) in lines.iter().enumerate() {
-            let (max_component, y) = (job / resolution, job % resolution);
-            for k in 0..resolution {
-                for x in 0..resolution {
-                    let index = Self::index(resolution, max_component, k, y, x);
-                    coefficients[index..index + 3].copy_from_slice(&plane[k * resolution + x]);
-                }
-            }
-        }
+        let rows = (0..3 * resolution * resolution)
+            .map(|i| {
+                let (max_component, z, y) = Self::row_position(resolution, i);
+                let plane = &planes[max_component * resolution + y];
+                OnceLock::from(Row::from(&plane[z * resolution..(z + 1) * resolution]))
+            })
+            .collect();
         RgbToSpectrumTable {
             resolution,
             z_nodes,
-            coefficients,
+            rows,
+            source: None,
         }
     }
 
-    /// A table from stored parts; `None` if their sizes do not fit
-    /// together or the z nodes are not increasing.
-    pub fn from_parts(
-        resolution: usize,
-        z_nodes: Vec<f32>,
-        coefficients: Vec<f32>,
-    ) -> Option<Self> {
+    /// The table stored in `file`, read a row at a time as lookups need
+    /// them (rows it cannot give are fitted for `problem`). `None` if the
+    /// file's grid is not the one [`RgbToSpectrumTable::compute`] makes.
+    pub fn from_cache(file: CachedRows, problem: FitProblem) -> Option<Self> {
+        let resolution = file.resolution();
+        let z_nodes = z_nodes(resolution);
+        if file.z_nodes() != z_nodes.as_slice() {
+            return None;
+        }
+        Some(RgbToSpectrumTable {
+            resolution,
+            z_nodes,
+            rows: (0..3 * resolution * resolution)
+                .map(|_| OnceLock::new())
+                .collect(),
+            source: Some(RowSource {
+                file: Some(file),
+                problem,
+            }),
+        })
+    }
+
+    /// A table from stored parts (`coefficients` as
+    /// `[max component][z][y][x][coefficient]`); `None` if their sizes do
+    /// not fit together, the z nodes are not increasing or a coefficient
+    /// is not finite.
+    pub fn from_parts(resolution: usize, z_nodes: Vec<f32>, coefficients: &[f32]) -> Option<Self> {
         let sizes_fit = resolution >= 2
             && z_nodes.len() == resolution
             && coefficients.len() == 3 * resolution.pow(3) * 3;
         let increasing = z_nodes.windows(2).all(|w| w[0] < w[1]);
         let finite = coefficients.iter().all(|c| c.is_finite());
-        (sizes_fit && increasing && finite).then_some(RgbToSpectrumTable {
+        (sizes_fit && increasing && finite).then(|| RgbToSpectrumTable {
             resolution,
             z_nodes,
-            coefficients,
+            rows: coefficients
+                .chunks_exact(3 * resolution)
+                .map(|row| OnceLock::from(row.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect::<Row>()))
+                .collect(),
+            source: None,
         })
     }
 
@@ -89,13 +139,54 @@ impl RgbToSpectrumTable {
         &self.z_nodes
     }
 
-    pub fn coefficients(&self) -> &[f32] {
-        &self.coefficients
+    /// Every row in order (`[max component][z][y]`), reading or fitting
+    /// those not filled yet: what the disk cache stores.
+    pub fn rows(&self) -> impl Iterator<Item = &[[f32; 3]]> {
+        (0..self.rows.len()).map(|i| self.row_at(i))
+    }
+
+    /// The largest component, z and y of row `index`.
+    fn row_position(resolution: usize, index: usize) -> (usize, usize, usize) {
+        let plane = resolution * resolution;
+        (
+            index / plane,
+            index % plane / resolution,
+            index % resolution,
+        )
+    }
+
+    /// Row (largest component, z, y).
+    #[inline]
+    fn row(&self, max_component: usize, z: usize, y: usize) -> &[[f32; 3]] {
+        self.row_at((max_component * self.resolution + z) * self.resolution + y)
     }
 
     #[inline]
-    fn index(resolution: usize, max_component: usize, z: usize, y: usize, x: usize) -> usize {
-        (((max_component * resolution + z) * resolution + y) * resolution + x) * 3
+    fn row_at(&self, index: usize) -> &[[f32; 3]] {
+        match self.rows.get(index) {
+            Some(row) => row.get_or_init(|| self.load_row(index)),
+            None => &[],
+        }
+    }
+
+    /// Row `index` from the cache file, else fitted: the plane of its
+    /// largest component and y, whose lines start from the same points
+    /// as [`RgbToSpectrumTable::compute`]'s, so the row is the same.
+    #[cold]
+    fn load_row(&self, index: usize) -> Row {
+        let res = self.resolution;
+        let Some(source) = &self.source else {
+            // Not reached: a table without a source has every row filled.
+            return vec![[0.0; 3]; res].into();
+        };
+        if let Some(row) = source.file.as_ref().and_then(|f| f.read_row(index)) {
+            if row.len() == res {
+                return row.into();
+            }
+        }
+        let (max_component, z, y) = Self::row_position(res, index);
+        let plane = fit_plane(&source.problem, &self.z_nodes, max_component, y);
+        Row::from(&plane[z * res..(z + 1) * res])
     }
 
     /// The sigmoid polynomial for an RGB with components in [0, 1]
@@ -135,13 +226,20 @@ impl RgbToSpectrumTable {
         let dx = x - xi as f32;
         let dy = y - yi as f32;
         let dz = (z - self.z_nodes[zi]) / (self.z_nodes[zi + 1] - self.z_nodes[zi]);
+        // The four rows around (z, y), each read at xi and xi + 1.
+        let rows = [
+            [
+                self.row(max_component, zi, yi),
+                self.row(max_component, zi, yi + 1),
+            ],
+            [
+                self.row(max_component, zi + 1, yi),
+                self.row(max_component, zi + 1, yi + 1),
+            ],
+        ];
         let corner = |ox: usize, oy: usize, oz: usize| {
-            let i = Self::index(res, max_component, zi + oz, yi + oy, xi + ox);
-            Vec3::new(
-                self.coefficients[i],
-                self.coefficients[i + 1],
-                self.coefficients[i + 2],
-            )
+            let c = rows[oz][oy].get(xi + ox).copied().unwrap_or_default();
+            Vec3::new(c[0], c[1], c[2])
         };
         let lerp = |t: f32, a: Vec3, b: Vec3| a + (b - a) * t;
         let c = lerp(
@@ -225,7 +323,7 @@ mod tests {
     #[test]
     fn greys_are_constant_spectra() {
         let table =
-            RgbToSpectrumTable::from_parts(2, vec![0.0, 1.0], vec![0.0; 3 * 8 * 3]).unwrap();
+            RgbToSpectrumTable::from_parts(2, vec![0.0, 1.0], &[0.0; 3 * 8 * 3]).unwrap();
         for v in [0.0_f32, 0.18, 0.5, 1.0] {
             let p = table.lookup(Vec3::splat(v));
             assert!((p.eval(400.0) - v).abs() < 1e-6 && (p.eval(700.0) - v).abs() < 1e-6);
@@ -392,10 +490,39 @@ mod tests {
         assert_eq!(table.resolution(), TABLE_RESOLUTION);
     }
 
+    /// A row fitted on its own (as a row the cache file cannot give is)
+    /// holds exactly the coefficients of the whole table's fit: each line
+    /// of constant chromaticity starts from the same point either way.
+    #[test]
+    fn a_row_fitted_alone_is_the_tables_row() {
+        let cs = crate::spectrum::color_space::get(crate::scene_description::ColorSpaceName::Srgb);
+        let reference = cs.rgb_to_spectrum_table();
+        let res = reference.resolution();
+        let alone = RgbToSpectrumTable {
+            resolution: res,
+            z_nodes: z_nodes(res),
+            rows: (0..3 * res * res).map(|_| OnceLock::new()).collect(),
+            source: Some(RowSource {
+                file: None,
+                problem: FitProblem::new(cs.illuminant_densely_sampled(), cs.xyz_from_rgb.as_dmat3()),
+            }),
+        };
+        // Rows of each largest component, near black, at the walk's start
+        // and at full intensity.
+        for index in [0, 1, 700, 4095, 4096 + 13 * 64 + 5, 8191, 8192 + 63 * 64 + 2, 12287] {
+            let (a, b) = (alone.row_at(index), reference.row_at(index));
+            assert_eq!(a.len(), res);
+            assert!(
+                a.iter().flatten().zip(b.iter().flatten()).all(|(x, y)| x.to_bits() == y.to_bits()),
+                "row {index} differs"
+            );
+        }
+    }
+
     #[test]
     fn rejects_inconsistent_parts() {
-        assert!(RgbToSpectrumTable::from_parts(2, vec![0.0, 1.0], vec![0.0; 5]).is_none());
-        assert!(RgbToSpectrumTable::from_parts(2, vec![1.0, 0.0], vec![0.0; 72]).is_none());
-        assert!(RgbToSpectrumTable::from_parts(2, vec![0.0, 1.0], vec![f32::NAN; 72]).is_none());
+        assert!(RgbToSpectrumTable::from_parts(2, vec![0.0, 1.0], &[0.0; 5]).is_none());
+        assert!(RgbToSpectrumTable::from_parts(2, vec![1.0, 0.0], &[0.0; 72]).is_none());
+        assert!(RgbToSpectrumTable::from_parts(2, vec![0.0, 1.0], &[f32::NAN; 72]).is_none());
     }
 }
