@@ -63,28 +63,90 @@ struct Cut {
     next_cdf: f32,
 }
 
-/// The tables of one step function: `steps` (n + 1 entries, the last one
-/// holding cdf 1 and no value) and `guide` (n + 1 [`Cut`]s, k = 0…n). A
-/// sample u in [k/n, (k+1)/n) lies in an interval between `guide[k].first`
-/// and `guide[k + 1].first`, so it searches there: one or two steps on
-/// average instead of log₂ n dependent loads, with exactly the interval
-/// the full search finds (the cutpoint method of Chen and Asau 1974).
-#[derive(Clone, Copy)]
-struct Tables<'a> {
-    steps: &'a [Step],
-    guide: &'a [Cut],
+/// A table's guide: for each bucket k = 0…n, the interval u = k / n falls
+/// in. The 1D tables keep [`Cut`]s (the interval's step beside its index);
+/// the rows of a 2D table keep the index alone, in 2 bytes where the rows
+/// are narrow enough (an image light's two distributions would otherwise
+/// hold 16 bytes a texel each for their guides: 8 MB for a 512² image).
+trait Guide {
+    /// The first interval of bucket `k`, its step and the next step's cdf.
+    fn cut(&self, steps: &[Step], k: usize) -> (usize, Step, f32);
+    /// The first interval of bucket `k`.
+    fn first(&self, k: usize) -> usize;
+    /// Starts loading bucket `k`'s entry.
+    fn prefetch(&self, k: usize);
 }
 
-/// Appends the tables of `|function|` on equal steps over `[min, max]` to
-/// `steps` and `guide` (an all-zero function gets a uniform cdf); returns
-/// the integral of |f|.
-fn tabulate(
-    function: &[f32],
-    min: f32,
-    max: f32,
-    steps: &mut Vec<Step>,
-    guide: &mut Vec<Cut>,
-) -> f32 {
+impl Guide for [Cut] {
+    #[inline]
+    fn cut(&self, _: &[Step], k: usize) -> (usize, Step, f32) {
+        let cut = self[k];
+        let step = Step {
+            cdf: cut.cdf,
+            value: cut.value,
+        };
+        (cut.first as usize, step, cut.next_cdf)
+    }
+
+    #[inline]
+    fn first(&self, k: usize) -> usize {
+        self[k].first as usize
+    }
+
+    #[inline]
+    fn prefetch(&self, k: usize) {
+        crate::accel::prefetch(&self[k]);
+    }
+}
+
+/// A guide of interval indices alone (`u16` or `u32`).
+macro_rules! index_guide {
+    ($index:ty) => {
+        impl Guide for [$index] {
+            #[inline]
+            fn cut(&self, steps: &[Step], k: usize) -> (usize, Step, f32) {
+                let first = self[k] as usize;
+                (first, steps[first], steps[first + 1].cdf)
+            }
+
+            #[inline]
+            fn first(&self, k: usize) -> usize {
+                self[k] as usize
+            }
+
+            #[inline]
+            fn prefetch(&self, k: usize) {
+                crate::accel::prefetch(&self[k]);
+            }
+        }
+    };
+}
+index_guide!(u16);
+index_guide!(u32);
+
+/// The tables of one step function: `steps` (n + 1 entries, the last one
+/// holding cdf 1 and no value) and `guide` (n + 1 entries, k = 0…n). A
+/// sample u in [k/n, (k+1)/n) lies in an interval between `guide[k]`'s
+/// first and `guide[k + 1]`'s, so it searches there: one or two steps on
+/// average instead of log₂ n dependent loads, with exactly the interval
+/// the full search finds (the cutpoint method of Chen and Asau 1974).
+struct Tables<'a, G: ?Sized> {
+    steps: &'a [Step],
+    guide: &'a G,
+}
+
+impl<G: ?Sized> Clone for Tables<'_, G> {
+    fn clone(&self) -> Self {
+        *self
+    }
+}
+
+impl<G: ?Sized> Copy for Tables<'_, G> {}
+
+/// Appends the steps of `|function|` on equal steps over `[min, max]` to
+/// `steps` (an all-zero function gets a uniform cdf); returns the integral
+/// of |f|.
+fn tabulate_steps(function: &[f32], min: f32, max: f32, steps: &mut Vec<Step>) -> f32 {
     let n = function.len();
     let first = steps.len();
     let mut cdf = 0.0f32;
@@ -103,19 +165,38 @@ fn tabulate(
             step.cdf / integral
         };
     }
-    guide.extend((0..=n).map(|k| {
-        let first = find_interval(table, k as f32 / n as f32);
-        Cut {
-            first: first as u32,
-            cdf: table[first].cdf,
-            value: table[first].value,
-            next_cdf: table[first + 1].cdf,
-        }
+    integral
+}
+
+/// The first interval of each guide bucket k = 0…n of a table's steps.
+fn guide_intervals(table: &[Step]) -> impl Iterator<Item = usize> + '_ {
+    let n = table.len() - 1;
+    (0..=n).map(move |k| find_interval(table, k as f32 / n as f32))
+}
+
+/// Appends the tables of `|function|` on equal steps over `[min, max]` to
+/// `steps` and `guide` (an all-zero function gets a uniform cdf); returns
+/// the integral of |f|.
+fn tabulate(
+    function: &[f32],
+    min: f32,
+    max: f32,
+    steps: &mut Vec<Step>,
+    guide: &mut Vec<Cut>,
+) -> f32 {
+    let first = steps.len();
+    let integral = tabulate_steps(function, min, max, steps);
+    let table = &steps[first..];
+    guide.extend(guide_intervals(table).map(|first| Cut {
+        first: first as u32,
+        cdf: table[first].cdf,
+        value: table[first].value,
+        next_cdf: table[first + 1].cdf,
     }));
     integral
 }
 
-impl Tables<'_> {
+impl<G: Guide + ?Sized> Tables<'_, G> {
     /// Number of steps.
     fn size(&self) -> usize {
         self.steps.len() - 1
@@ -132,7 +213,7 @@ impl Tables<'_> {
     /// Starts loading the guide entry [`Tables::locate`] reads first.
     #[inline]
     fn prefetch(&self, u: f32) {
-        crate::accel::prefetch(&self.guide[self.bucket(u)]);
+        self.guide.prefetch(self.bucket(u));
     }
 
     /// The interval `u` falls in (the last i ≤ n − 1 with cdf[i] ≤ u, as
@@ -141,18 +222,14 @@ impl Tables<'_> {
     fn locate(&self, u: f32) -> (usize, Step, f32) {
         let n = self.size();
         let k = self.bucket(u);
-        let cut = self.guide[k];
+        let (first, step, next_cdf) = self.guide.cut(self.steps, k);
         // cdf[i] ≤ u < cdf[i + 1] makes i the last interval with cdf ≤ u,
         // whichever bucket rounding put u in.
-        if cut.cdf <= u && u < cut.next_cdf {
-            let step = Step {
-                cdf: cut.cdf,
-                value: cut.value,
-            };
-            return (cut.first as usize, step, cut.next_cdf);
+        if step.cdf <= u && u < next_cdf {
+            return (first, step, next_cdf);
         }
         let cdf = |i: usize| self.steps[i].cdf;
-        let (mut lo, mut hi) = (cut.first as usize, self.guide[k + 1].first as usize);
+        let (mut lo, mut hi) = (first, self.guide.first(k + 1));
         // Rounding of u · n may have put u one bucket off: widen to it.
         while lo > 0 && cdf(lo) > u {
             lo -= 1;
@@ -227,10 +304,10 @@ impl PiecewiseConstant1D {
         }
     }
 
-    fn tables(&self) -> Tables<'_> {
+    fn tables(&self) -> Tables<'_, [Cut]> {
         Tables {
             steps: &self.steps,
-            guide: &self.guide,
+            guide: &self.guide[..],
         }
     }
 
@@ -278,7 +355,9 @@ fn find_interval(steps: &[Step], u: f32) -> usize {
 /// A 2D step function on a grid over a rectangle, sampled in proportion to
 /// its absolute value: a marginal distribution over rows (v) and a
 /// conditional one within each row (u). The rows' tables lie end to end in
-/// two arrays, so a sample reads no per-row header.
+/// two arrays, so a sample reads no per-row header: 10 bytes a cell where
+/// rows have fewer than 65,536 steps (pbrt-v4's tables hold 8: each step's
+/// value and cdf).
 #[derive(Clone, Debug, PartialEq)]
 pub struct PiecewiseConstant2D {
     domain: Domain2D,
@@ -287,10 +366,18 @@ pub struct PiecewiseConstant2D {
     /// Row v's steps at `v (nu + 1) .. (v + 1)(nu + 1)`.
     steps: Vec<Step>,
     /// Row v's guide at the same place.
-    guides: Vec<Cut>,
+    guides: RowGuides,
     /// The distribution over rows of each row's integral (its values are
     /// the rows' integrals).
     marginal: PiecewiseConstant1D,
+}
+
+/// The rows' guides: interval indices within the row, in 2 bytes where
+/// they fit.
+#[derive(Clone, Debug, PartialEq)]
+enum RowGuides {
+    Narrow(Vec<u16>),
+    Wide(Vec<u32>),
 }
 
 impl PiecewiseConstant2D {
@@ -300,13 +387,25 @@ impl PiecewiseConstant2D {
     pub fn new(function: &[f32], nu: usize, nv: usize, domain: Domain2D) -> Self {
         let (nu, nv) = (nu.max(1), nv.max(1));
         let mut steps = Vec::with_capacity(nv * (nu + 1));
-        let mut guides = Vec::with_capacity(nv * (nu + 1));
+        // An interval index is at most nu - 1.
+        let mut guides = if nu <= usize::from(u16::MAX) {
+            RowGuides::Narrow(Vec::with_capacity(nv * (nu + 1)))
+        } else {
+            RowGuides::Wide(Vec::with_capacity(nv * (nu + 1)))
+        };
+        let mut row = Vec::with_capacity(nu);
         let row_integrals: Vec<f32> = (0..nv)
             .map(|v| {
-                let row: Vec<f32> = (0..nu)
-                    .map(|u| function.get(v * nu + u).copied().unwrap_or(0.0))
-                    .collect();
-                tabulate(&row, domain.min.x, domain.max.x, &mut steps, &mut guides)
+                row.clear();
+                row.extend((0..nu).map(|u| function.get(v * nu + u).copied().unwrap_or(0.0)));
+                let first = steps.len();
+                let integral = tabulate_steps(&row, domain.min.x, domain.max.x, &mut steps);
+                let intervals = guide_intervals(&steps[first..]);
+                match &mut guides {
+                    RowGuides::Narrow(g) => g.extend(intervals.map(|i| i as u16)),
+                    RowGuides::Wide(g) => g.extend(intervals.map(|i| i as u32)),
+                }
+                integral
             })
             .collect();
         let marginal = PiecewiseConstant1D::new(&row_integrals, domain.min.y, domain.max.y);
@@ -319,12 +418,29 @@ impl PiecewiseConstant2D {
         }
     }
 
-    /// Row `v`'s tables.
-    fn row(&self, v: usize) -> Tables<'_> {
-        let range = v * (self.nu + 1)..(v + 1) * (self.nu + 1);
-        Tables {
-            steps: &self.steps[range.clone()],
-            guide: &self.guides[range],
+    /// Where row `v`'s tables lie.
+    fn row_range(&self, v: usize) -> std::ops::Range<usize> {
+        v * (self.nu + 1)..(v + 1) * (self.nu + 1)
+    }
+
+    /// Samples row `v` with `u`: the point, its density within the row,
+    /// and the step's index.
+    #[inline]
+    fn sample_row(&self, v: usize, u: f32) -> (f32, f32, usize) {
+        let range = self.row_range(v);
+        let steps = &self.steps[range.clone()];
+        let (integral, min, max) = (self.marginal.value(v), self.domain.min.x, self.domain.max.x);
+        match &self.guides {
+            RowGuides::Narrow(g) => Tables {
+                steps,
+                guide: &g[range],
+            }
+            .sample(u, integral, min, max),
+            RowGuides::Wide(g) => Tables {
+                steps,
+                guide: &g[range],
+            }
+            .sample(u, integral, min, max),
         }
     }
 
@@ -347,12 +463,7 @@ impl PiecewiseConstant2D {
     /// cell (column, row) it lies in.
     pub fn sample_with_cell(&self, u: Vec2) -> (Vec2, f32, UVec2) {
         let (y, pdf_y, row) = self.marginal.sample(u.y);
-        let (x, pdf_x, column) = self.row(row).sample(
-            u.x,
-            self.marginal.value(row),
-            self.domain.min.x,
-            self.domain.max.x,
-        );
+        let (x, pdf_x, column) = self.sample_row(row, u.x);
         (
             Vec2::new(x, y),
             pdf_x * pdf_y,
@@ -365,7 +476,20 @@ impl PiecewiseConstant2D {
     #[inline]
     pub fn prefetch(&self, u: Vec2) {
         let (_, _, row) = self.marginal.sample(u.y);
-        self.row(row).prefetch(u.x);
+        let range = self.row_range(row);
+        let steps = &self.steps[range.clone()];
+        match &self.guides {
+            RowGuides::Narrow(g) => Tables {
+                steps,
+                guide: &g[range],
+            }
+            .prefetch(u.x),
+            RowGuides::Wide(g) => Tables {
+                steps,
+                guide: &g[range],
+            }
+            .prefetch(u.x),
+        }
     }
 
     /// The density of sampling `p` (a point of the domain).
@@ -379,7 +503,7 @@ impl PiecewiseConstant2D {
         if integral == 0.0 {
             return 0.0;
         }
-        self.row(row).steps[column].value / integral
+        self.steps[self.row_range(row)][column].value / integral
     }
 }
 
@@ -467,6 +591,38 @@ mod tests {
                     (i, d.steps[i], d.steps[i + 1].cdf),
                     "case {case} n {n} u {u}"
                 );
+            }
+        }
+    }
+
+    /// A 2D table's rows, with their guides of indices (2 bytes, or 4 for
+    /// rows of 65,536 steps and more), find the interval the full binary
+    /// search finds.
+    #[test]
+    fn row_guides_find_the_binary_search_interval() {
+        let mut state = 0x9e37_79b9_7f4a_7c15u64;
+        let mut rnd = || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 40) as f32 / (1u64 << 24) as f32
+        };
+        for (nu, nv) in [(1, 1), (7, 5), (300, 3), (70_000, 1)] {
+            let function: Vec<f32> = (0..nu * nv)
+                .map(|i| if i % 11 < 4 { 0.0 } else { rnd() * (1 + i % 3) as f32 })
+                .collect();
+            let d = PiecewiseConstant2D::new(&function, nu, nv, Domain2D::UNIT);
+            assert_eq!(matches!(d.guides, RowGuides::Wide(_)), nu > 65_535);
+            for v in 0..nv {
+                let steps = &d.steps[d.row_range(v)];
+                let mut us: Vec<f32> = (0..500).map(|_| rnd()).collect();
+                us.extend(steps.iter().map(|s| s.cdf).filter(|&c| c < 1.0));
+                us.extend((0..nu).map(|k| k as f32 / nu as f32));
+                for u in us {
+                    let i = find_interval(steps, u);
+                    let (_, _, column) = d.sample_row(v, u);
+                    assert_eq!(column, i, "{nu}×{nv} row {v} u {u}");
+                }
             }
         }
     }
