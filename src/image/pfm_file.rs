@@ -7,16 +7,47 @@
 //! 1, and trailing bytes after the pixel data are ignored.
 
 use super::{ColorEncoding, Image, ImageError, PixelFormat};
-use std::io::Write;
+use std::io::{Read, Write};
 use std::path::Path;
+
+/// Bytes read first from a file for its header: a header that ends within
+/// them is parsed there and the samples are read straight into the image
+/// (no copy of the file in memory beside it); a file this short is parsed
+/// whole, and a longer header (only whitespace makes one) is read with the
+/// whole file.
+const HEADER_PREFIX: u64 = 4096;
 
 /// Reads a PFM file into a linear float image (top row first in memory).
 pub(crate) fn read_pfm(path: &Path) -> Result<Image, ImageError> {
-    let bytes = std::fs::read(path).map_err(|source| ImageError::Io {
+    let io_error = |source| ImageError::Io {
         path: path.into(),
         source,
-    })?;
-    read_pfm_bytes(&bytes, path)
+    };
+    let mut file = std::fs::File::open(path).map_err(io_error)?;
+    let mut prefix = Vec::new();
+    (&mut file)
+        .take(HEADER_PREFIX)
+        .read_to_end(&mut prefix)
+        .map_err(io_error)?;
+    if (prefix.len() as u64) < HEADER_PREFIX {
+        return read_pfm_bytes(&prefix, path);
+    }
+    let Ok(header) = parse_header(&prefix) else {
+        drop(file);
+        let bytes = std::fs::read(path).map_err(io_error)?;
+        return read_pfm_bytes(&bytes, path);
+    };
+    let length = file.metadata().map_err(io_error)?.len();
+    let malformed = |message| ImageError::Malformed {
+        path: path.into(),
+        message,
+    };
+    header
+        .check_length(length.saturating_sub(header.position as u64))
+        .map_err(malformed)?;
+    let mut pixels = std::io::Cursor::new(&prefix[header.position..]).chain(file);
+    let data = header.decode(&mut pixels).map_err(io_error)?;
+    header.into_image(data).map_err(malformed)
 }
 
 /// Reads PFM bytes held in memory (`path` names them in errors).
@@ -29,8 +60,28 @@ pub(crate) fn read_pfm_bytes(bytes: &[u8], path: &Path) -> Result<Image, ImageEr
 
 /// Parses PFM bytes; errors say what is wrong (the caller adds the file).
 fn parse_pfm(bytes: &[u8]) -> Result<Image, String> {
+    let header = parse_header(bytes)?;
+    let pixel_bytes = &bytes[header.position..];
+    header.check_length(pixel_bytes.len() as u64)?;
+    let data = header
+        .decode(&mut &pixel_bytes[..])
+        .map_err(|error| error.to_string())?;
+    header.into_image(data)
+}
+
+/// What a PFM header says, and where its samples start.
+struct Header {
+    channels: &'static [&'static str],
+    width: u32,
+    height: u32,
+    scale: f32,
+    /// The offset of the first sample byte.
+    position: usize,
+}
+
+fn parse_header(bytes: &[u8]) -> Result<Header, String> {
     let mut header = HeaderReader { bytes, position: 0 };
-    let channels: &[&str] = match header.word()? {
+    let channels: &'static [&'static str] = match header.word()? {
         b"PF" => &["R", "G", "B"],
         b"Pf" => &["Y"],
         other => {
@@ -54,52 +105,84 @@ fn parse_pfm(bytes: &[u8]) -> Result<Image, String> {
             )
         })?;
     // `word` consumed the single whitespace byte that ends the header.
-    let little_endian = scale < 0.0;
-
-    let row_samples = width as usize * channels.len();
-    let sample_count = row_samples * height as usize;
-    let pixel_bytes = &bytes[header.position..];
-    let needed = sample_count.checked_mul(4).ok_or("image too large")?;
-    if pixel_bytes.len() < needed {
-        return Err(format!(
-            "premature end of file: {width}×{height} pixels need {needed} bytes of data, found {}",
-            pixel_bytes.len()
-        ));
-    }
-
-    let magnitude = scale.abs();
-    let mut data = vec![0.0f32; sample_count];
-    // File row 0 is the bottom of the image; memory row 0 is the top.
-    for (file_row, row_bytes) in pixel_bytes[..needed]
-        .chunks_exact(row_samples * 4)
-        .enumerate()
-    {
-        let memory_row = height as usize - 1 - file_row;
-        let destination = &mut data[memory_row * row_samples..(memory_row + 1) * row_samples];
-        for (sample, chunk) in destination.iter_mut().zip(row_bytes.chunks_exact(4)) {
-            let raw = [chunk[0], chunk[1], chunk[2], chunk[3]];
-            let value = if little_endian {
-                f32::from_le_bytes(raw)
-            } else {
-                f32::from_be_bytes(raw)
-            };
-            *sample = if magnitude == 1.0 {
-                value
-            } else {
-                value * magnitude
-            };
-        }
-    }
-    let channels = channels.iter().map(|name| name.to_string()).collect();
-    Image::from_parts(
+    Ok(Header {
+        channels,
         width,
         height,
-        channels,
-        data,
-        ColorEncoding::Linear,
-        PixelFormat::Float,
-    )
-    .map_err(|error| error.to_string())
+        scale,
+        position: header.position,
+    })
+}
+
+impl Header {
+    /// Samples in one row.
+    fn row_samples(&self) -> usize {
+        self.width as usize * self.channels.len()
+    }
+
+    /// Bytes of sample data the image needs.
+    fn needed_bytes(&self) -> Result<usize, String> {
+        (self.row_samples() * self.height as usize)
+            .checked_mul(4)
+            .ok_or_else(|| "image too large".into())
+    }
+
+    /// Checks that `available` bytes of data (trailing bytes are ignored,
+    /// as pbrt-v4 does) hold the image, before anything is allocated.
+    fn check_length(&self, available: u64) -> Result<(), String> {
+        let needed = self.needed_bytes()?;
+        if available < needed as u64 {
+            return Err(format!(
+                "premature end of file: {}×{} pixels need {needed} bytes of data, found {available}",
+                self.width, self.height
+            ));
+        }
+        Ok(())
+    }
+
+    /// The samples, top row first, read row by row from `pixels` (the
+    /// file's bottom row first) and scaled by |scale| when it is not 1.
+    fn decode(&self, pixels: &mut impl Read) -> std::io::Result<Vec<f32>> {
+        let little_endian = self.scale < 0.0;
+        let magnitude = self.scale.abs();
+        let row_samples = self.row_samples();
+        let height = self.height as usize;
+        let mut data = vec![0.0f32; row_samples * height];
+        let mut row_bytes = vec![0u8; row_samples * 4];
+        // File row 0 is the bottom of the image; memory row 0 is the top.
+        for file_row in 0..height {
+            pixels.read_exact(&mut row_bytes)?;
+            let memory_row = height - 1 - file_row;
+            let destination = &mut data[memory_row * row_samples..(memory_row + 1) * row_samples];
+            for (sample, chunk) in destination.iter_mut().zip(row_bytes.chunks_exact(4)) {
+                let raw = [chunk[0], chunk[1], chunk[2], chunk[3]];
+                let value = if little_endian {
+                    f32::from_le_bytes(raw)
+                } else {
+                    f32::from_be_bytes(raw)
+                };
+                *sample = if magnitude == 1.0 {
+                    value
+                } else {
+                    value * magnitude
+                };
+            }
+        }
+        Ok(data)
+    }
+
+    fn into_image(self, data: Vec<f32>) -> Result<Image, String> {
+        let channels = self.channels.iter().map(|name| name.to_string()).collect();
+        Image::from_parts(
+            self.width,
+            self.height,
+            channels,
+            data,
+            ColorEncoding::Linear,
+            PixelFormat::Float,
+        )
+        .map_err(|error| error.to_string())
+    }
 }
 
 /// Reads the whitespace-separated words of a PFM header.
@@ -244,5 +327,36 @@ mod tests {
         assert!(parse_pfm(b"PF\n2").unwrap_err().contains("premature end"));
         // A huge declared size is rejected without allocating it.
         assert!(parse_pfm(b"PF\n2000000000 2000000000\n-1\n").is_err());
+    }
+
+    /// A file is read as its bytes are parsed: short files, files longer
+    /// than the header's first read (samples read straight into the image),
+    /// a header longer than it, and a file cut short.
+    #[test]
+    fn files_read_as_their_bytes_parse() {
+        let dir = std::env::temp_dir().join(format!("rpbrt-test-pfm-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("image.pfm");
+        let row: Vec<f32> = (0..3 * 40).map(|i| i as f32 * 0.5 - 7.0).collect();
+        let rows: Vec<&[f32]> = (0..30).map(|_| row.as_slice()).collect();
+        let long_header = format!("PF{}40 30\n-2\n", " ".repeat(5000));
+        for (header, rows) in [
+            ("PF\n2 1\n-1\n", &rows[..1]),
+            ("PF\n40 30\n1.0\n", &rows[..]),
+            (long_header.as_str(), &rows[..]),
+        ] {
+            let header = header.replace("2 1", "40 1");
+            let bytes = pfm_bytes(&header, rows, !header.contains('-'));
+            std::fs::write(&path, &bytes).unwrap();
+            let from_file = read_pfm(&path).unwrap();
+            let from_bytes = parse_pfm(&bytes).unwrap();
+            assert_eq!(from_file.data(), from_bytes.data());
+            assert_eq!((from_file.width(), from_file.height()), (40, rows.len() as u32));
+            let cut = &bytes[..bytes.len() - 5];
+            std::fs::write(&path, cut).unwrap();
+            let error = read_pfm(&path).unwrap_err().to_string();
+            assert!(error.contains("premature end of file"), "{error}");
+        }
+        let _ = std::fs::remove_dir_all(&dir);
     }
 }

@@ -1,6 +1,6 @@
 //! RGB views of images, for the renderer and the comparison tools.
 
-use super::{Image, ImageError};
+use super::{ColorEncoding, Image, ImageError};
 
 impl Image {
     /// A linear RGB image from interleaved values.
@@ -19,5 +19,14 @@ impl Image {
             return linear.data().iter().flat_map(|&v| [v, v, v]).collect();
         }
         Vec::new()
+    }
+
+    /// [`Image::rgb_data`], taking the image: a linear image of exactly R,
+    /// G and B gives up its own samples rather than a copy of them.
+    pub fn into_rgb_data(self) -> Vec<f32> {
+        if matches!(self.encoding(), ColorEncoding::Linear) && self.channels() == ["R", "G", "B"] {
+            return self.into_data();
+        }
+        self.rgb_data()
     }
 }

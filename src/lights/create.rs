@@ -186,15 +186,17 @@ pub fn create_light(
                     &filename_at,
                 );
             }
-            let data = image.rgb_data();
-            let rgb: Vec<[f32; 3]> = data.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect();
+            let resolution = image.width() as i32;
+            // The image's own samples (no copy when they are linear RGB),
+            // freed once the light has made its texels and distributions.
+            let rgb = image.into_rgb_data();
             // Images carry no colour space here: linear sRGB (pbrt-v4's
             // default when the file names none).
             let color_space = crate::spectrum::color_space::get(crate::scene_description::ColorSpaceName::Srgb);
             let scale = p.float("scale", 1.0)? as f32 / photometric(&color_space.illuminant);
             p.report_unused(|| "light \"infinite\"".into())?;
             let render_from_light = render_from_light.to_mat4();
-            return Ok(Light::ImageInfinite(super::ImageInfiniteLight::new(render_from_light, rgb, image.width() as i32, color_space, scale)));
+            return Ok(Light::ImageInfinite(super::ImageInfiniteLight::new(render_from_light, &rgb, resolution, color_space, scale)));
         }
         "infinite" => {
             let (radiance, mut scale) = emission(e, "L", base)?;

@@ -26,9 +26,8 @@ use std::sync::Arc;
 pub struct ImageInfiniteLight {
     pub render_from_light: Mat4,
     pub light_from_render: Mat4,
-    /// Linear RGB, row-major, top row first; width = height = resolution.
-    pub rgb: Vec<[f32; 3]>,
-    /// Each texel's illuminant spectrum (scale and sigmoid polynomial of
+    /// Each texel's illuminant spectrum (row-major, top row first; width =
+    /// height = resolution), all the light keeps of its image's RGB (scale and sigmoid polynomial of
     /// [`RgbColorSpace::illuminant_coefficients`]), computed once: a
     /// lookup evaluates it without building a spectrum (whose shared
     /// reference to the illuminant both render threads would count up
@@ -46,31 +45,39 @@ pub struct ImageInfiniteLight {
 }
 
 impl ImageInfiniteLight {
+    /// The light of an image whose linear RGB is `rgb` (interleaved,
+    /// row-major, top row first, `resolution` texels square).
     pub fn new(
         render_from_light: Mat4,
-        rgb: Vec<[f32; 3]>,
+        rgb: &[f32],
         resolution: i32,
         color_space: &'static RgbColorSpace,
         scale: f32,
     ) -> Self {
         let n = resolution as usize;
-        let d: Vec<f32> = rgb.iter().map(|c| (c[0] + c[1] + c[2]) / 3.0).collect();
+        let d: Vec<f32> = rgb
+            .chunks_exact(3)
+            .map(|c| (c[0] + c[1] + c[2]) / 3.0)
+            .collect();
         let domain = Domain2D::UNIT;
         let distribution = PiecewiseConstant2D::new(&d, n, n, domain);
         let average = d.iter().map(|&v| v as f64).sum::<f64>() / d.len().max(1) as f64;
-        let mut comp: Vec<f32> = d.iter().map(|&v| (v - average as f32).max(0.0)).collect();
+        let mut comp = d;
+        for v in &mut comp {
+            *v = (*v - average as f32).max(0.0);
+        }
         if comp.iter().all(|&v| v == 0.0) {
             comp.fill(1.0);
         }
         let compensated = PiecewiseConstant2D::new(&comp, n, n, domain);
+        drop(comp);
         let texels = rgb
-            .iter()
-            .map(|&c| color_space.illuminant_coefficients(Vec3::from(c)))
+            .chunks_exact(3)
+            .map(|c| color_space.illuminant_coefficients(Vec3::new(c[0], c[1], c[2])))
             .collect();
         ImageInfiniteLight {
             light_from_render: render_from_light.inverse(),
             render_from_light,
-            rgb,
             texels,
             illuminant: Arc::clone(color_space.illuminant_densely_sampled()),
             resolution,
@@ -198,9 +205,10 @@ mod tests {
 
     /// A 16 × 16 environment with smoothly varying colours and one bright
     /// texel, rotated so light space differs from render space.
-    fn light() -> ImageInfiniteLight {
+    /// The test image's RGB.
+    fn rgb() -> Vec<[f32; 3]> {
         let n = 16;
-        let rgb: Vec<[f32; 3]> = (0..n * n)
+        (0..n * n)
             .map(|i| {
                 let (x, y) = ((i % n) as f32 / n as f32, (i / n) as f32 / n as f32);
                 if i == 37 {
@@ -209,10 +217,13 @@ mod tests {
                     [0.2 + x, 0.1 + y, 0.3 + x * y]
                 }
             })
-            .collect();
+            .collect()
+    }
+
+    fn light() -> ImageInfiniteLight {
         let rotation = Mat4::from_rotation_x(0.7) * Mat4::from_rotation_z(-1.1);
         let space = crate::spectrum::color_space::get(ColorSpaceName::Srgb);
-        let mut light = ImageInfiniteLight::new(rotation, rgb, n as i32, space, 2.0);
+        let mut light = ImageInfiniteLight::new(rotation, rgb().as_flattened(), 16, space, 2.0);
         light.preprocess(Vec3::ZERO, 1.0);
         light
     }
@@ -222,7 +233,7 @@ mod tests {
         i: usize,
         lambda: &SampledWavelengths,
     ) -> SampledSpectrum {
-        let c = light.rgb[i];
+        let c = rgb()[i];
         light
             .color_space
             .rgb_to_spectrum(Vec3::from(c), SpectrumKind::Illuminant)
@@ -263,6 +274,7 @@ mod tests {
     #[test]
     fn importance_sampling_integrates_the_environment() {
         let light = light();
+        let rgb = rgb();
         let lambda = SampledWavelengths::sample_visible(0.61);
         let n = light.resolution as usize;
         let mean: f32 = (0..n * n)
@@ -297,9 +309,8 @@ mod tests {
                 let uv =
                     equal_area_sphere_to_square(light.light_from_render.transform_vector3(c.wi));
                 let i = (uv.y * n as f32) as usize * n + (uv.x * n as f32) as usize;
-                let luminance = light.rgb[i.min(n * n - 1)].iter().sum::<f32>() / 3.0;
-                let average = light
-                    .rgb
+                let luminance = rgb[i.min(n * n - 1)].iter().sum::<f32>() / 3.0;
+                let average = rgb
                     .iter()
                     .map(|c| c.iter().sum::<f32>() / 3.0)
                     .sum::<f32>()

@@ -480,7 +480,7 @@ mod tests {
         let space = crate::spectrum::color_space::get(ColorSpaceName::Srgb);
         let plain = super::super::ImageInfiniteLight::new(
             Mat4::IDENTITY,
-            vec![[0.7, 0.4, 0.2]],
+            &[0.7, 0.4, 0.2],
             1,
             space,
             1.5,
