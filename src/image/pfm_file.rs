@@ -351,7 +351,10 @@ mod tests {
             let from_file = read_pfm(&path).unwrap();
             let from_bytes = parse_pfm(&bytes).unwrap();
             assert_eq!(from_file.data(), from_bytes.data());
-            assert_eq!((from_file.width(), from_file.height()), (40, rows.len() as u32));
+            assert_eq!(
+                (from_file.width(), from_file.height()),
+                (40, rows.len() as u32)
+            );
             let cut = &bytes[..bytes.len() - 5];
             std::fs::write(&path, cut).unwrap();
             let error = read_pfm(&path).unwrap_err().to_string();

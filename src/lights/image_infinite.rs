@@ -310,11 +310,8 @@ mod tests {
                     equal_area_sphere_to_square(light.light_from_render.transform_vector3(c.wi));
                 let i = (uv.y * n as f32) as usize * n + (uv.x * n as f32) as usize;
                 let luminance = rgb[i.min(n * n - 1)].iter().sum::<f32>() / 3.0;
-                let average = rgb
-                    .iter()
-                    .map(|c| c.iter().sum::<f32>() / 3.0)
-                    .sum::<f32>()
-                    / (n * n) as f32;
+                let average =
+                    rgb.iter().map(|c| c.iter().sum::<f32>() / 3.0).sum::<f32>() / (n * n) as f32;
                 assert!(
                     luminance >= average * 0.999,
                     "compensated sample in a dim texel"

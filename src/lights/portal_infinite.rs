@@ -478,13 +478,8 @@ mod tests {
         let image = Image::from_rgb(1, 1, vec![0.7, 0.4, 0.2]).expect("an image");
         let portal = light(&image);
         let space = crate::spectrum::color_space::get(ColorSpaceName::Srgb);
-        let plain = super::super::ImageInfiniteLight::new(
-            Mat4::IDENTITY,
-            &[0.7, 0.4, 0.2],
-            1,
-            space,
-            1.5,
-        );
+        let plain =
+            super::super::ImageInfiniteLight::new(Mat4::IDENTITY, &[0.7, 0.4, 0.2], 1, space, 1.5);
         let lambda = SampledWavelengths::sample_visible(0.3);
         let ray = Ray::new(Vec3::new(0.1, 0.5, 0.2), Vec3::new(0.1, 1.0, -0.2), 0.0);
         let (a, b) = (portal.le(&ray, &lambda), plain.le(ray.direction, &lambda));

@@ -609,7 +609,13 @@ mod tests {
         };
         for (nu, nv) in [(1, 1), (7, 5), (300, 3), (70_000, 1)] {
             let function: Vec<f32> = (0..nu * nv)
-                .map(|i| if i % 11 < 4 { 0.0 } else { rnd() * (1 + i % 3) as f32 })
+                .map(|i| {
+                    if i % 11 < 4 {
+                        0.0
+                    } else {
+                        rnd() * (1 + i % 3) as f32
+                    }
+                })
                 .collect();
             let d = PiecewiseConstant2D::new(&function, nu, nv, Domain2D::UNIT);
             assert_eq!(matches!(d.guides, RowGuides::Wide(_)), nu > 65_535);

@@ -125,7 +125,13 @@ impl RgbToSpectrumTable {
             z_nodes,
             rows: coefficients
                 .chunks_exact(3 * resolution)
-                .map(|row| OnceLock::from(row.chunks_exact(3).map(|c| [c[0], c[1], c[2]]).collect::<Row>()))
+                .map(|row| {
+                    OnceLock::from(
+                        row.chunks_exact(3)
+                            .map(|c| [c[0], c[1], c[2]])
+                            .collect::<Row>(),
+                    )
+                })
                 .collect(),
             source: None,
         })
@@ -322,8 +328,7 @@ mod tests {
 
     #[test]
     fn greys_are_constant_spectra() {
-        let table =
-            RgbToSpectrumTable::from_parts(2, vec![0.0, 1.0], &[0.0; 3 * 8 * 3]).unwrap();
+        let table = RgbToSpectrumTable::from_parts(2, vec![0.0, 1.0], &[0.0; 3 * 8 * 3]).unwrap();
         for v in [0.0_f32, 0.18, 0.5, 1.0] {
             let p = table.lookup(Vec3::splat(v));
             assert!((p.eval(400.0) - v).abs() < 1e-6 && (p.eval(700.0) - v).abs() < 1e-6);
@@ -504,16 +509,31 @@ mod tests {
             rows: (0..3 * res * res).map(|_| OnceLock::new()).collect(),
             source: Some(RowSource {
                 file: None,
-                problem: FitProblem::new(cs.illuminant_densely_sampled(), cs.xyz_from_rgb.as_dmat3()),
+                problem: FitProblem::new(
+                    cs.illuminant_densely_sampled(),
+                    cs.xyz_from_rgb.as_dmat3(),
+                ),
             }),
         };
         // Rows of each largest component, near black, at the walk's start
         // and at full intensity.
-        for index in [0, 1, 700, 4095, 4096 + 13 * 64 + 5, 8191, 8192 + 63 * 64 + 2, 12287] {
+        for index in [
+            0,
+            1,
+            700,
+            4095,
+            4096 + 13 * 64 + 5,
+            8191,
+            8192 + 63 * 64 + 2,
+            12287,
+        ] {
             let (a, b) = (alone.row_at(index), reference.row_at(index));
             assert_eq!(a.len(), res);
             assert!(
-                a.iter().flatten().zip(b.iter().flatten()).all(|(x, y)| x.to_bits() == y.to_bits()),
+                a.iter()
+                    .flatten()
+                    .zip(b.iter().flatten())
+                    .all(|(x, y)| x.to_bits() == y.to_bits()),
                 "row {index} differs"
             );
         }

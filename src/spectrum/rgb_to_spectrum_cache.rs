@@ -272,7 +272,13 @@ mod tests {
 
     fn store_small(path: &Path, fingerprint: u64) -> std::io::Result<()> {
         let (res, z_nodes, rows) = small_table();
-        store(path, res, &z_nodes, rows.iter().map(Vec::as_slice), fingerprint)
+        store(
+            path,
+            res,
+            &z_nodes,
+            rows.iter().map(Vec::as_slice),
+            fingerprint,
+        )
     }
 
     fn scratch_dir(name: &str) -> PathBuf {
