@@ -29,7 +29,7 @@ mod thin_dielectric;
 mod transport_mode;
 
 #[cfg(test)]
-mod test_support;
+pub(crate) mod test_support;
 
 pub use bsdf::BSDF;
 pub use bsdf_sample::BSDFSample;

@@ -50,6 +50,7 @@ mod pmj02bn;
 mod primes;
 mod radical_inverse;
 pub(crate) use radical_inverse::radical_inverse;
+pub mod piecewise_linear_2d;
 mod randomize_strategy;
 mod sobol;
 mod sobol_interval;
