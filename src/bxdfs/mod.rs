@@ -24,6 +24,7 @@ pub mod hair_ellipse;
 mod hair_ellipse_oracle;
 mod henyey_greenstein;
 mod layered;
+pub mod measured;
 mod microfacet;
 mod thin_dielectric;
 mod transport_mode;
@@ -41,6 +42,7 @@ pub use diffuse_transmission::DiffuseTransmissionBxDF;
 pub use flags::{BxDFFlags, BxDFReflTransFlags};
 pub use henyey_greenstein::{henyey_greenstein, HenyeyGreenstein, PhaseFunctionSample};
 pub use layered::{CoatedConductorBxDF, CoatedDiffuseBxDF, LayeredBxDF};
+pub use measured::MeasuredBxDF;
 pub use microfacet::TrowbridgeReitzDistribution;
 pub use thin_dielectric::ThinDielectricBxDF;
 pub use transport_mode::TransportMode;
@@ -48,7 +50,7 @@ pub use transport_mode::TransportMode;
 use crate::spectrum::SampledSpectrum;
 use glam::{Vec2, Vec3};
 
-/// The BxDFs pbrt-v4's materials create (hair and measured BxDFs aside).
+/// The BxDFs pbrt-v4's materials create (and the dual hair model).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum BxDF {
     Diffuse(DiffuseBxDF),
@@ -60,6 +62,7 @@ pub enum BxDF {
     DiffuseTransmission(DiffuseTransmissionBxDF),
     Hair(hair::CircularHairBxDF),
     DualHair(dual_hair::DualHairBxDF),
+    Measured(MeasuredBxDF),
 }
 
 /// Expands to a `match` calling `$method` on whichever BxDF `$self` holds.
@@ -75,6 +78,7 @@ macro_rules! dispatch {
             BxDF::DiffuseTransmission($bxdf) => $call,
             BxDF::Hair($bxdf) => $call,
             BxDF::DualHair($bxdf) => $call,
+            BxDF::Measured($bxdf) => $call,
         }
     };
 }
@@ -153,6 +157,12 @@ impl From<CoatedDiffuseBxDF> for BxDF {
 impl From<CoatedConductorBxDF> for BxDF {
     fn from(b: CoatedConductorBxDF) -> Self {
         BxDF::CoatedConductor(b)
+    }
+}
+
+impl From<MeasuredBxDF> for BxDF {
+    fn from(b: MeasuredBxDF) -> Self {
+        BxDF::Measured(b)
     }
 }
 
