@@ -12,6 +12,7 @@
 //! | `diffusetransmission` | `reflectance` 0.25, `transmittance` 0.25, `scale` 1 |
 //! | `hair` | `sigma_a`, or `reflectance` (alias `color`), or `eumelanin`/`pheomelanin` (default eumelanin 1.3 when none is given); `eta` 1.55, `beta_m` 0.3, `beta_n` 0.3 (both clamped to [0.01, 1]), `alpha` 2° |
 //! | `hair` (dual model) | `ellipse_a`, `ellipse_b`, `d_diff`, `ellipse_orientation`, `diffraction`, `variant`, `internal_fresnel`, `fresnel`, `residual`: see [`dual_hair`] |
+//! | `measured` | `filename`: an RGL database `.bsdf` file: see [`measured`] |
 //! | `interface` | none: marks a boundary between media; rays pass through |
 //!
 //! All but `interface`, `hair` and `mix` also take `displacement` (a bump
@@ -43,6 +44,7 @@ use std::path::Path;
 pub mod bump_map;
 pub mod dual_hair;
 pub mod force_diffuse;
+pub mod measured;
 pub mod mix;
 pub mod normal_map;
 pub mod shading_normal;
@@ -138,6 +140,8 @@ pub enum Material {
         n_samples: u32,
     },
     CoatedConductor(Box<CoatedConductor>),
+    /// A measured BRDF ([`measured`]).
+    Measured(measured::MeasuredMaterial),
     /// One of two materials, chosen per hit ([`mix`]).
     Mix(Box<mix::MixMaterial>),
     /// pbrt-v4's `forcediffuse`: the material's BSDF replaced by a diffuse
@@ -454,6 +458,7 @@ impl Material {
                 }))
             }
             "mix" => Material::Mix(Box::new(mix::MixMaterial::create(&tp, loc)?)),
+            "measured" => Material::Measured(measured::MeasuredMaterial::create(&tp, loc)?),
             "hair" => {
                 let sigma_a = tp.spectrum_texture_opt("sigma_a", SpectrumKind::Unbounded)?;
                 let reflectance = tp.spectrum_texture_opt("reflectance", SpectrumKind::Albedo)?;
@@ -591,6 +596,7 @@ impl Material {
                 let bsdf = inner.bsdf(si, ctx, lambda)?;
                 return Some(force_diffuse::diffuse_equivalent(&bsdf, si, lambda));
             }
+            Material::Measured(m) => m.bxdf(lambda),
             Material::Diffuse { reflectance } => {
                 BxDF::Diffuse(DiffuseBxDF::new(clamp01(reflectance.evaluate(ctx, lambda))))
             }
