@@ -112,6 +112,7 @@ impl MeasuredMaterial {
 mod tests {
     use crate::bxdfs::measured::synthetic::Synthetic;
     use crate::bxdfs::measured::tensor_file::{encode, f32_bytes, DType};
+    use crate::image::Image;
     use crate::materials::Material;
     use crate::scene::build::{build, BuiltScene, RenderOverrides};
     use crate::scene::load_text;
@@ -281,5 +282,47 @@ mod tests {
         fields[3] = ("phi_i", DType::F32, vec![9], f32_bytes(&phi));
         let e = error_for("reduction", &encode(&fields));
         assert!(e.contains("1/2 of the circle"), "{e}");
+    }
+
+    /// A plane of a constant-spectrum file seen from straight above, lit
+    /// by a white point light far away at 45° whose irradiance at the
+    /// origin (facing it) is 1: its radiance is f cos θi = R D(ωm) / (4
+    /// σ(ωo)), with ωm at 22.5°, a grid point of the file's NDF (so no
+    /// interpolation error), and σ(ωo) = 1 for GGX at normal incidence.
+    #[test]
+    fn a_lit_plane_has_the_radiance_of_its_tables() {
+        let dir = fresh_dir("render");
+        let file = Synthetic::ggx(0.25);
+        std::fs::write(dir.join("grey.bsdf"), file.bytes()).unwrap();
+        let expected = 0.8 * file.d(22.5f64.to_radians(), 0.0) / (4.0 * file.sigma(0.0, 0.0));
+        for integrator in ["path", "volpath", "bdpt"] {
+            let scene = format!(
+                "LookAt 0 0 50  0 0 0  0 1 0\nCamera \"perspective\" \"float fov\" 1\n\
+                 Film \"rgb\" \"integer xresolution\" 4 \"integer yresolution\" 4 \"string filename\" \"{integrator}.exr\"\n\
+                 Sampler \"zsobol\" \"integer pixelsamples\" 16\n\
+                 Integrator \"{integrator}\" \"integer maxdepth\" 1\nWorldBegin\n\
+                 LightSource \"point\" \"point3 from\" [-1000 0 1000] \"rgb I\" [1 1 1] \"float scale\" 2e6\n\
+                 Material \"measured\" \"string filename\" \"grey.bsdf\"\n\
+                 Shape \"trianglemesh\" \"integer indices\" [0 1 2 0 2 3]\n\
+                 \"point3 P\" [-10 -10 0  10 -10 0  10 10 0  -10 10 0]\n"
+            );
+            let path = dir.join(format!("{integrator}.pbrt"));
+            std::fs::write(&path, scene).unwrap();
+            let overrides = RenderOverrides {
+                outfile: Some(dir.join(format!("{integrator}.exr"))),
+                ..Default::default()
+            };
+            crate::pipeline::render_file(&path, &overrides, 1, false).unwrap();
+            let pixels = Image::read(dir.join(format!("{integrator}.exr")))
+                .unwrap()
+                .rgb_data();
+            let mean = pixels.iter().map(|&v| v as f64).sum::<f64>() / pixels.len() as f64;
+            eprintln!("{integrator}: {mean:.5} (expected {expected:.5})");
+            assert!(
+                (mean / expected - 1.0).abs() < 0.005,
+                "{integrator}: {mean} vs {expected}"
+            );
+        }
+        std::fs::remove_dir_all(&dir).ok();
     }
 }

@@ -48,6 +48,8 @@ pub enum TableError {
     },
     #[error("parameter {index} has no values")]
     EmptyParameter { index: usize },
+    #[error("value {index} is {value}: values must be finite")]
+    NotFinite { index: usize, value: f32 },
     #[error("slice {slice} integrates to {integral}: a density needs a positive, finite mass")]
     NoMass { slice: usize, integral: f64 },
 }
@@ -119,6 +121,14 @@ impl<const N: usize> PiecewiseLinear2D<N> {
                 slices,
                 x_size,
                 y_size,
+            });
+        }
+        // A NaN or infinity would spread through every interpolation and
+        // sample that touches it.
+        if let Some(index) = data.iter().position(|v| !v.is_finite()) {
+            return Err(TableError::NotFinite {
+                index,
+                value: data[index],
             });
         }
         let inv_patch_size = Vec2::new((x_size - 1) as f32, (y_size - 1) as f32);
@@ -617,8 +627,11 @@ mod tests {
         ));
         let zero = PiecewiseLinear2D::<0>::new(&[0.0; 4], 2, 2, [], Tabulation::Density);
         assert!(matches!(zero, Err(TableError::NoMass { slice: 0, .. })));
-        let nan = PiecewiseLinear2D::<0>::new(&[f32::NAN; 4], 2, 2, [], Tabulation::Density);
-        assert!(matches!(nan, Err(TableError::NoMass { .. })));
+        let nan =
+            PiecewiseLinear2D::<0>::new(&[1.0, 1.0, f32::NAN, 1.0], 2, 2, [], Tabulation::Values);
+        assert!(matches!(nan, Err(TableError::NotFinite { index: 2, .. })));
+        let inf = PiecewiseLinear2D::<0>::new(&[f32::INFINITY; 4], 2, 2, [], Tabulation::Density);
+        assert!(matches!(inf, Err(TableError::NotFinite { index: 0, .. })));
     }
 
     #[test]
