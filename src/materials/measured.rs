@@ -273,6 +273,12 @@ mod tests {
             e.contains("\"luminance\"") && e.contains("positive, finite mass"),
             "{e}"
         );
+        let falling: Vec<f32> = (0..10).map(|k| 1.0 - k as f32 * 0.1).collect();
+        let e = error_for(
+            "falling",
+            &with_field("theta_i", Some((DType::F32, vec![10], f32_bytes(&falling)))),
+        );
+        assert!(e.contains("\"theta_i\" must increase"), "{e}");
         let mut half = Synthetic::ggx(0.3);
         half.anisotropic = true;
         let mut fields = half.fields();

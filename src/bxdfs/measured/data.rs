@@ -84,9 +84,10 @@ fn shape_error(field: &str, got: &[usize], want: String) -> DataError {
 }
 
 /// Checks that a grid of parameter values strictly increases (the
-/// interpolation brackets a value by bisection).
+/// interpolation brackets a value by bisection); NaN does not.
 fn increasing(field: &'static str, values: &[f32]) -> Result<(), DataError> {
-    match values.windows(2).position(|w| !(w[0] < w[1])) {
+    let increases = |w: &[f32]| w[0].partial_cmp(&w[1]) == Some(std::cmp::Ordering::Less);
+    match values.windows(2).position(|w| !increases(w)) {
         Some(i) => Err(DataError::NotIncreasing {
             field,
             index: i + 1,
