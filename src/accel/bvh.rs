@@ -15,15 +15,23 @@ use obvhs::cwbvh::CwBvh;
 use obvhs::BvhBuildParams;
 use rayon::prelude::*;
 
-use super::parallel_build::{self, build_cwbvh_in_parts};
+use super::parallel_build::{self, build_cwbvh_in_parts, Split};
 
 /// Primitive count above which the BVH is built for build speed.
 const LARGE_BUILD: usize = 1 << 20;
 
-/// Primitive count from which the BVH is built in eight parts in parallel
+/// Primitive count from which the BVH is built in parts in parallel
 /// (`accel::parallel_build`): there obvhs's single-threaded conversion to
 /// the 8-wide tree takes longer than its parallel PLOC.
 const PARTS_BUILD: usize = 1 << 16;
+
+/// In a build in parts, a part of this many primitives or more is split
+/// again: obvhs holds about 500 bytes per primitive of a tree in progress,
+/// so with parts of a few thousand the build adds little to the scene's
+/// memory (hair-eumel-2-256, 512,000 curve pieces: whole-process peak 204
+/// → 168 MB against parts of 64,000), and with surface-area splits above
+/// them the tree is as good (rays' node and primitive tests within 3 %).
+const PART_SIZE: usize = 1 << 14;
 
 /// A BVH whose leaves refer to primitives `0..n` in the order given to
 /// [`Bvh::build`] — callers should store their primitives in
@@ -88,18 +96,21 @@ impl Bvh {
         // Above a million primitives the build dominates a quick render
         // (120 MB of random curves: 14 s with the medium build, 6.8 s with
         // the very fast one; pbrt-v4 takes 8.9 s), so trade a little
-        // traversal speed for it.
-        let params = if aabbs.len() > LARGE_BUILD {
-            BvhBuildParams::very_fast_build()
+        // traversal speed for it; median splits there also keep the
+        // parts in progress, and the copies of their boxes, equal (the
+        // uneven halves of surface-area splits raised that file's peak
+        // from 895 to 937 MB).
+        let (params, split) = if aabbs.len() > LARGE_BUILD {
+            (BvhBuildParams::very_fast_build(), Split::Median)
         } else {
-            BvhBuildParams::medium_build()
+            (BvhBuildParams::medium_build(), Split::SurfaceArea)
         };
-        // Above a million primitives the eight parts are themselves built
-        // in parts: obvhs's build holds about 500 bytes per primitive of
-        // the parts in progress, which for 4.8 million curve pieces made
-        // the build's peak 0.5 GB above the scene's.
-        let recurse = aabbs.len() > LARGE_BUILD;
-        let mut tree = build_cwbvh_in_parts(aabbs, params, PARTS_BUILD, recurse);
+        let part_size = if aabbs.len() >= PARTS_BUILD {
+            PART_SIZE
+        } else {
+            usize::MAX
+        };
+        let mut tree = build_cwbvh_in_parts(aabbs, params, part_size, split);
         if parallel_build::depth(&tree) > parallel_build::MAX_DEPTH {
             tree = parallel_build::balanced(aabbs, params);
         }

@@ -1,13 +1,17 @@
 //! Building a large CWBVH on every core: the primitives are split into
 //! eight spatial groups, each group's tree is built with obvhs on its own
-//! (in parallel), and the eight trees hang from one root node.
+//! (in parallel), and the eight trees hang from one root node; a group
+//! still large is split again in the same way.
 //!
 //! obvhs's PLOC is parallel, but its conversion of the binary tree into the
 //! 8-wide compressed one is a single-threaded recursion, and it was the
 //! largest part of the build of a hair scene (hair-blonde-3-bounces-256:
-//! 0.36 s of a 0.6 s BVH build; 640,000 curve pieces). The top three levels
-//! of the tree come from median splits instead of PLOC's clustering; the
-//! eight groups are then as good as obvhs makes them.
+//! 0.36 s of a 0.6 s BVH build; 640,000 curve pieces). obvhs also holds
+//! about 500 bytes per primitive of a tree in progress, so groups of at
+//! most a few thousand primitives keep the build's peak memory small: one
+//! group per core is in progress at a time. The top levels of the tree
+//! come from binned surface-area splits instead of PLOC's clustering; the
+//! groups are then as good as obvhs makes them.
 
 use glam::Vec3A;
 use obvhs::aabb::Aabb;
@@ -28,35 +32,46 @@ fn inner_child_meta(slot: usize) -> u8 {
     0b0010_0000 | (24 + slot as u8)
 }
 
+/// How the primitives of a group are halved.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Split {
+    /// At the median centroid along the longest axis of the centroids:
+    /// halves of equal size, so the tree's depth is bounded whatever the
+    /// boxes.
+    Median,
+    /// Along the same axis, where the surface area heuristic of [`BINS`]
+    /// bins of centroids is least (Wald 2007, "On fast construction of
+    /// SAH-based bounding volume hierarchies"): the better tree where
+    /// primitives are not spread evenly (hair: strands of different
+    /// lengths, bare scalp).
+    SurfaceArea,
+}
+
 /// Builds over `aabbs` as obvhs's `build_cwbvh` does, in eight parts when
-/// there are at least `min_parts_size` primitives (else in one), each part
-/// itself in parts if `recurse`. The result's `primitive_indices` refer to
-/// `aabbs` as obvhs's do.
+/// there are at least `part_size` primitives (else in one), each part in
+/// parts again while it has that many. The result's `primitive_indices`
+/// refer to `aabbs` as obvhs's do.
 pub fn build_cwbvh_in_parts(
     aabbs: &[Aabb],
     params: BvhBuildParams,
-    min_parts_size: usize,
-    recurse: bool,
+    part_size: usize,
+    split: Split,
 ) -> CwBvh {
     // obvhs reports its core build time; unused here.
     let whole = || build_cwbvh(aabbs, params, &mut std::time::Duration::default());
-    if aabbs.len() < min_parts_size.max(GROUPS) {
+    if aabbs.len() < part_size.max(GROUPS) {
         return whole();
     }
     let centroids: Vec<Vec3A> = aabbs.par_iter().map(|b| b.center()).collect();
     let mut order: Vec<u32> = (0..aabbs.len() as u32).collect();
-    let groups = split_at_medians(&mut order, &centroids, GROUPS);
+    let groups = split_into_groups(&mut order, &centroids, aabbs, split, GROUPS);
     drop(centroids);
 
     let parts: Vec<CwBvh> = groups
         .par_iter()
         .map(|group| {
             let boxes: Vec<Aabb> = group.iter().map(|&i| aabbs[i as usize]).collect();
-            let mut part = if recurse {
-                build_cwbvh_in_parts(&boxes, params, min_parts_size, true)
-            } else {
-                build_cwbvh(&boxes, params, &mut std::time::Duration::default())
-            };
+            let mut part = build_cwbvh_in_parts(&boxes, params, part_size, split);
             for index in &mut part.primitive_indices {
                 *index = group[*index as usize];
             }
@@ -66,12 +81,15 @@ pub fn build_cwbvh_in_parts(
     join_under_root(parts).unwrap_or_else(whole)
 }
 
-/// Splits `indices` into `count` (a power of two) equal groups by halving
-/// at the median centroid along the longest axis of each half's centroids
-/// (the halves in parallel).
-fn split_at_medians<'a>(
+/// Splits `indices` into `count` (a power of two) groups by halving each
+/// along the longest axis of its centroids as `split` says (the halves in
+/// parallel). Every group holds at least one primitive when there are at
+/// least `count`.
+fn split_into_groups<'a>(
     indices: &'a mut [u32],
     centroids: &[Vec3A],
+    aabbs: &[Aabb],
+    split: Split,
     count: usize,
 ) -> Vec<&'a [u32]> {
     if count <= 1 {
@@ -98,17 +116,95 @@ fn split_at_medians<'a>(
     } else {
         2
     };
-    let middle = indices.len() / 2;
+    let median = indices.len() / 2;
+    let middle = match split {
+        Split::Median => median,
+        // Each half must keep enough primitives for its groups.
+        Split::SurfaceArea => surface_area_split(indices, centroids, aabbs, axis, lo, hi)
+            .clamp(count / 2, indices.len() - count / 2),
+    };
+    // The `middle` smallest centroids along the axis go left: the same
+    // halves as the bins' split plane, up to ties at the plane.
     indices.select_nth_unstable_by(middle, |&a, &b| {
         centroids[a as usize][axis].total_cmp(&centroids[b as usize][axis])
     });
     let (left, right) = indices.split_at_mut(middle);
     let (mut groups, right_groups) = rayon::join(
-        || split_at_medians(left, centroids, count / 2),
-        || split_at_medians(right, centroids, count / 2),
+        || split_into_groups(left, centroids, aabbs, split, count / 2),
+        || split_into_groups(right, centroids, aabbs, split, count / 2),
     );
     groups.extend(right_groups);
     groups
+}
+
+/// Bins of centroids along the split axis for [`Split::SurfaceArea`].
+const BINS: usize = 32;
+
+/// How many of `indices` go to the left half: the boundary between two of
+/// [`BINS`] equal bins of the centroids along `axis` (from `lo` to `hi`)
+/// where the halves' surface area heuristic, area × count summed over the
+/// two halves, is least. The median when all centroids share one bin.
+fn surface_area_split(
+    indices: &[u32],
+    centroids: &[Vec3A],
+    aabbs: &[Aabb],
+    axis: usize,
+    lo: Vec3A,
+    hi: Vec3A,
+) -> usize {
+    let n = indices.len();
+    let (lo, hi) = (lo[axis], hi[axis]);
+    if hi <= lo {
+        return n / 2;
+    }
+    let scale = BINS as f32 / (hi - lo);
+    let bin = |i: u32| (((centroids[i as usize][axis] - lo) * scale) as usize).min(BINS - 1);
+    // Each chunk's bins filled in place (a fold moving the 1.3 kB of bins
+    // per primitive costs more than the binning).
+    let (boxes, counts) = indices
+        .par_chunks(1 << 12)
+        .map(|chunk| {
+            let mut boxes = [Aabb::empty(); BINS];
+            let mut counts = [0usize; BINS];
+            for &i in chunk {
+                let k = bin(i);
+                boxes[k] = boxes[k].union(&aabbs[i as usize]);
+                counts[k] += 1;
+            }
+            (boxes, counts)
+        })
+        .reduce(
+            || ([Aabb::empty(); BINS], [0usize; BINS]),
+            |(mut boxes, mut counts), (other_boxes, other_counts)| {
+                for k in 0..BINS {
+                    boxes[k] = boxes[k].union(&other_boxes[k]);
+                    counts[k] += other_counts[k];
+                }
+                (boxes, counts)
+            },
+        );
+    // right_cost[k]: the heuristic of bins k.. as one half.
+    let mut right_cost = [0.0f32; BINS];
+    let (mut right, mut right_count) = (Aabb::empty(), 0);
+    for k in (1..BINS).rev() {
+        right = right.union(&boxes[k]);
+        right_count += counts[k];
+        right_cost[k] = right.half_area() * right_count as f32;
+    }
+    let mut best = (f32::INFINITY, n / 2);
+    let (mut left, mut left_count) = (Aabb::empty(), 0);
+    for k in 1..BINS {
+        left = left.union(&boxes[k - 1]);
+        left_count += counts[k - 1];
+        if left_count == 0 || left_count == n {
+            continue;
+        }
+        let cost = left.half_area() * left_count as f32 + right_cost[k];
+        if cost < best.0 {
+            best = (cost, left_count);
+        }
+    }
+    best.1
 }
 
 /// One tree of the eight `parts`: a root node whose children are the
@@ -209,7 +305,7 @@ const BALANCED_PART: usize = 24;
 /// clustering cannot separate (thousands in one place), where its own tree
 /// grows deeper than [`MAX_DEPTH`].
 pub fn balanced(aabbs: &[Aabb], params: BvhBuildParams) -> CwBvh {
-    build_cwbvh_in_parts(aabbs, params, BALANCED_PART * GROUPS, true)
+    build_cwbvh_in_parts(aabbs, params, BALANCED_PART * GROUPS, Split::Median)
 }
 
 /// The depth of `tree` (1 for a root alone; 0 when empty).
@@ -260,7 +356,8 @@ mod tests {
     #[test]
     fn eight_parts_make_a_valid_tree_over_every_primitive() {
         let boxes = random_boxes(5000, 3);
-        let tree = build_cwbvh_in_parts(&boxes, BvhBuildParams::medium_build(), 1000, false);
+        let tree =
+            build_cwbvh_in_parts(&boxes, BvhBuildParams::medium_build(), 1000, Split::Median);
         // Joined, not the one-piece fallback: the root's children are the
         // parts' roots.
         assert_eq!(tree.nodes[0].imask, 0xff);
@@ -271,13 +368,54 @@ mod tests {
         assert_eq!(result.discovered_primitives.len(), boxes.len());
     }
 
+    /// Two clusters, 300 boxes around x = 0 and 30 around x = 10: the
+    /// surface-area split falls in the gap between them, the median inside
+    /// the larger one.
+    #[test]
+    fn the_surface_area_split_separates_clusters() {
+        let mut boxes = random_boxes(330, 7);
+        for b in &mut boxes[300..] {
+            *b = Aabb::new(b.min * 0.1 + Vec3A::X * 10.0, b.max * 0.1 + Vec3A::X * 10.0);
+        }
+        for b in &mut boxes[..300] {
+            *b = Aabb::new(b.min * 0.1, b.max * 0.1);
+        }
+        let centroids: Vec<Vec3A> = boxes.iter().map(|b| b.center()).collect();
+        let indices: Vec<u32> = (0..boxes.len() as u32).collect();
+        let lo = centroids.iter().fold(Vec3A::INFINITY, |a, &c| a.min(c));
+        let hi = centroids.iter().fold(Vec3A::NEG_INFINITY, |a, &c| a.max(c));
+        assert_eq!(
+            surface_area_split(&indices, &centroids, &boxes, 0, lo, hi),
+            300
+        );
+    }
+
+    /// Parts in parts (three levels here) with surface-area splits: a valid
+    /// tree over every primitive.
+    #[test]
+    fn parts_of_parts_make_a_valid_tree_over_every_primitive() {
+        let boxes = random_boxes(20_000, 11);
+        let tree = build_cwbvh_in_parts(
+            &boxes,
+            BvhBuildParams::medium_build(),
+            100,
+            Split::SurfaceArea,
+        );
+        let mut seen = tree.primitive_indices.clone();
+        seen.sort_unstable();
+        assert_eq!(seen, (0..boxes.len() as u32).collect::<Vec<_>>());
+        let result = tree.validate(&boxes, false);
+        assert_eq!(result.discovered_primitives.len(), boxes.len());
+        assert!(depth(&tree) <= MAX_DEPTH);
+    }
+
     /// Boxes all in one place: obvhs's own tree is deeper than its
     /// traversal stack; the balanced one is not, and holds every primitive.
     #[test]
     fn coincident_boxes_get_a_balanced_tree() {
         let boxes = vec![Aabb::new(Vec3A::ZERO, Vec3A::ONE); 3000];
         let params = BvhBuildParams::medium_build();
-        let whole = build_cwbvh_in_parts(&boxes, params, usize::MAX, false);
+        let whole = build_cwbvh_in_parts(&boxes, params, usize::MAX, Split::Median);
         assert!(depth(&whole) > MAX_DEPTH, "{}", depth(&whole));
         let tree = balanced(&boxes, params);
         // Two levels of parts (375, then 47 boxes) over obvhs trees of 47.
