@@ -49,6 +49,7 @@ enum Command {
 }
 
 fn main() -> ExitCode {
+    rpbrt::memory::return_large_blocks_when_freed();
     // pbrt-v4 writes --pixelbounds and --cropwindow as one list (0,120,0,90).
     let args = match render_scene::expand_comma_lists(std::env::args_os()) {
         Ok(args) => args,
