@@ -27,11 +27,19 @@ const PARTS_BUILD: usize = 1 << 16;
 
 /// In a build in parts, a part of this many primitives or more is split
 /// again: obvhs holds about 500 bytes per primitive of a tree in progress,
-/// so with parts of a few thousand the build adds little to the scene's
-/// memory (hair-eumel-2-256, 512,000 curve pieces: whole-process peak 204
-/// → 168 MB against parts of 64,000), and with surface-area splits above
-/// them the tree is as good (rays' node and primitive tests within 3 %).
-const PART_SIZE: usize = 1 << 14;
+/// so with parts of a few thousand (one in progress per thread) the build
+/// adds little to the scene's memory at any thread count
+/// (hair-eumel-2-256, 512,000 curve pieces, the BVH phase's peak above
+/// what is resident before it: 85 MB with parts of 64,000 at 2 threads,
+/// 24 MB at 16 threads with these), and with surface-area splits above
+/// them the tree is as good (rays' node and primitive tests within 3 % on
+/// hair-eumel-2-256 and hair-blonde-3-bounces-256).
+const PART_SIZE: usize = 1 << 12;
+
+/// [`PART_SIZE`] above a million primitives, where build time counts
+/// most: one level of splits fewer (120 MB of random curves: build CPU
+/// time 0.3–0.6 s less than with parts under 4096).
+const LARGE_PART_SIZE: usize = 1 << 14;
 
 /// A BVH whose leaves refer to primitives `0..n` in the order given to
 /// [`Bvh::build`] — callers should store their primitives in
@@ -96,16 +104,15 @@ impl Bvh {
         // Above a million primitives the build dominates a quick render
         // (120 MB of random curves: 14 s with the medium build, 6.8 s with
         // the very fast one; pbrt-v4 takes 8.9 s), so trade a little
-        // traversal speed for it; median splits there also keep the
-        // parts in progress, and the copies of their boxes, equal (the
-        // uneven halves of surface-area splits raised that file's peak
-        // from 895 to 937 MB).
+        // traversal speed for it: median splits, cheaper than binning.
         let (params, split) = if aabbs.len() > LARGE_BUILD {
             (BvhBuildParams::very_fast_build(), Split::Median)
         } else {
             (BvhBuildParams::medium_build(), Split::SurfaceArea)
         };
-        let part_size = if aabbs.len() >= PARTS_BUILD {
+        let part_size = if aabbs.len() > LARGE_BUILD {
+            LARGE_PART_SIZE
+        } else if aabbs.len() >= PARTS_BUILD {
             PART_SIZE
         } else {
             usize::MAX

@@ -57,28 +57,41 @@ pub fn build_cwbvh_in_parts(
     part_size: usize,
     split: Split,
 ) -> CwBvh {
-    // obvhs reports its core build time; unused here.
-    let whole = || build_cwbvh(aabbs, params, &mut std::time::Duration::default());
     if aabbs.len() < part_size.max(GROUPS) {
-        return whole();
+        // obvhs reports its core build time; unused here.
+        return build_cwbvh(aabbs, params, &mut std::time::Duration::default());
     }
-    let centroids: Vec<Vec3A> = aabbs.par_iter().map(|b| b.center()).collect();
     let mut order: Vec<u32> = (0..aabbs.len() as u32).collect();
-    let groups = split_into_groups(&mut order, &centroids, aabbs, split, GROUPS);
-    drop(centroids);
+    build_group(aabbs, &mut order, params, part_size, split)
+}
 
-    let parts: Vec<CwBvh> = groups
-        .par_iter()
-        .map(|group| {
-            let boxes: Vec<Aabb> = group.iter().map(|&i| aabbs[i as usize]).collect();
-            let mut part = build_cwbvh_in_parts(&boxes, params, part_size, split);
-            for index in &mut part.primitive_indices {
-                *index = group[*index as usize];
-            }
-            part
-        })
+/// The tree over the primitives `group` of `aabbs` (its
+/// `primitive_indices` are indices of `aabbs`). The groups are index
+/// lists into the one array of boxes: only a part built whole copies its
+/// boxes, so the parts in progress, one per core, are all the build adds.
+fn build_group(
+    aabbs: &[Aabb],
+    group: &mut [u32],
+    params: BvhBuildParams,
+    part_size: usize,
+    split: Split,
+) -> CwBvh {
+    let whole = |group: &[u32]| {
+        let boxes: Vec<Aabb> = group.iter().map(|&i| aabbs[i as usize]).collect();
+        let mut tree = build_cwbvh(&boxes, params, &mut std::time::Duration::default());
+        for index in &mut tree.primitive_indices {
+            *index = group[*index as usize];
+        }
+        tree
+    };
+    if group.len() < part_size.max(GROUPS) {
+        return whole(group);
+    }
+    let parts: Vec<CwBvh> = split_into_groups(group, aabbs, split, GROUPS)
+        .into_par_iter()
+        .map(|part| build_group(aabbs, part, params, part_size, split))
         .collect();
-    join_under_root(parts).unwrap_or_else(whole)
+    join_under_root(parts).unwrap_or_else(|| whole(group))
 }
 
 /// Splits `indices` into `count` (a power of two) groups by halving each
@@ -87,11 +100,11 @@ pub fn build_cwbvh_in_parts(
 /// least `count`.
 fn split_into_groups<'a>(
     indices: &'a mut [u32],
-    centroids: &[Vec3A],
     aabbs: &[Aabb],
     split: Split,
     count: usize,
-) -> Vec<&'a [u32]> {
+) -> Vec<&'a mut [u32]> {
+    let centroid = |i: u32| aabbs[i as usize].center();
     if count <= 1 {
         return vec![indices];
     }
@@ -100,7 +113,7 @@ fn split_into_groups<'a>(
         .fold(
             || (Vec3A::splat(f32::INFINITY), Vec3A::splat(f32::NEG_INFINITY)),
             |(lo, hi), &i| {
-                let c = centroids[i as usize];
+                let c = centroid(i);
                 (lo.min(c), hi.max(c))
             },
         )
@@ -120,18 +133,18 @@ fn split_into_groups<'a>(
     let middle = match split {
         Split::Median => median,
         // Each half must keep enough primitives for its groups.
-        Split::SurfaceArea => surface_area_split(indices, centroids, aabbs, axis, lo, hi)
+        Split::SurfaceArea => surface_area_split(indices, aabbs, axis, lo, hi)
             .clamp(count / 2, indices.len() - count / 2),
     };
     // The `middle` smallest centroids along the axis go left: the same
     // halves as the bins' split plane, up to ties at the plane.
     indices.select_nth_unstable_by(middle, |&a, &b| {
-        centroids[a as usize][axis].total_cmp(&centroids[b as usize][axis])
+        centroid(a)[axis].total_cmp(&centroid(b)[axis])
     });
     let (left, right) = indices.split_at_mut(middle);
     let (mut groups, right_groups) = rayon::join(
-        || split_into_groups(left, centroids, aabbs, split, count / 2),
-        || split_into_groups(right, centroids, aabbs, split, count / 2),
+        || split_into_groups(left, aabbs, split, count / 2),
+        || split_into_groups(right, aabbs, split, count / 2),
     );
     groups.extend(right_groups);
     groups
@@ -144,21 +157,14 @@ const BINS: usize = 32;
 /// [`BINS`] equal bins of the centroids along `axis` (from `lo` to `hi`)
 /// where the halves' surface area heuristic, area × count summed over the
 /// two halves, is least. The median when all centroids share one bin.
-fn surface_area_split(
-    indices: &[u32],
-    centroids: &[Vec3A],
-    aabbs: &[Aabb],
-    axis: usize,
-    lo: Vec3A,
-    hi: Vec3A,
-) -> usize {
+fn surface_area_split(indices: &[u32], aabbs: &[Aabb], axis: usize, lo: Vec3A, hi: Vec3A) -> usize {
     let n = indices.len();
     let (lo, hi) = (lo[axis], hi[axis]);
     if hi <= lo {
         return n / 2;
     }
     let scale = BINS as f32 / (hi - lo);
-    let bin = |i: u32| (((centroids[i as usize][axis] - lo) * scale) as usize).min(BINS - 1);
+    let bin = |i: u32| (((aabbs[i as usize].center()[axis] - lo) * scale) as usize).min(BINS - 1);
     // Each chunk's bins filled in place (a fold moving the 1.3 kB of bins
     // per primitive costs more than the binning).
     let (boxes, counts) = indices
@@ -380,14 +386,12 @@ mod tests {
         for b in &mut boxes[..300] {
             *b = Aabb::new(b.min * 0.1, b.max * 0.1);
         }
-        let centroids: Vec<Vec3A> = boxes.iter().map(|b| b.center()).collect();
         let indices: Vec<u32> = (0..boxes.len() as u32).collect();
-        let lo = centroids.iter().fold(Vec3A::INFINITY, |a, &c| a.min(c));
-        let hi = centroids.iter().fold(Vec3A::NEG_INFINITY, |a, &c| a.max(c));
-        assert_eq!(
-            surface_area_split(&indices, &centroids, &boxes, 0, lo, hi),
-            300
-        );
+        let lo = boxes.iter().fold(Vec3A::INFINITY, |a, b| a.min(b.center()));
+        let hi = boxes
+            .iter()
+            .fold(Vec3A::NEG_INFINITY, |a, b| a.max(b.center()));
+        assert_eq!(surface_area_split(&indices, &boxes, 0, lo, hi), 300);
     }
 
     /// Parts in parts (three levels here) with surface-area splits: a valid
