@@ -10,7 +10,7 @@
 //! With the environment variable `RPBRT_MEMORY_PHASES` set, each phase's
 //! end prints the peak resident memory during the phase and what stays
 //! resident after the trim (the figures of docs/performance-notes.md,
-//! "Memory at scale"); the peak is then reset for the next phase, so
+//! "Memory at scale") and the seconds since the previous phase; the peak is then reset for the next phase, so
 //! `--stats`'s peak is the last phase's.
 
 /// Blocks of at least this many bytes are mapped on their own and unmapped
@@ -49,13 +49,26 @@ pub fn return_freed_memory(phase: &str) {
     if trace {
         let mb = |b: Option<u64>| b.map_or("?".into(), |b| (b >> 20).to_string());
         eprintln!(
-            "memory: {phase}: peak {} MB, then {} MB",
+            "memory: {phase}: peak {} MB, then {} MB ({:.3} s)",
             mb(peak),
-            mb(status_bytes("VmRSS:"))
+            mb(status_bytes("VmRSS:")),
+            seconds_since_last_phase()
         );
         // Linux: writing 5 resets the high-water mark to the current size.
         let _ = std::fs::write("/proc/self/clear_refs", "5");
     }
+}
+
+/// Seconds since the previous phase ended (or since the first call).
+fn seconds_since_last_phase() -> f64 {
+    use std::sync::Mutex;
+    use std::time::Instant;
+    static LAST: Mutex<Option<Instant>> = Mutex::new(None);
+    let now = Instant::now();
+    let mut last = LAST.lock().unwrap_or_else(|e| e.into_inner());
+    let seconds = last.map_or(0.0, |t| (now - t).as_secs_f64());
+    *last = Some(now);
+    seconds
 }
 
 /// Peak resident set size ("high water mark") of this process in bytes,
