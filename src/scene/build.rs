@@ -14,7 +14,7 @@ use crate::filters::Filter;
 use crate::interaction::SurfaceInteraction;
 use crate::lights::{self, Light, LightKind, LightSampler};
 use crate::materials::Material;
-use crate::math::{offset_ray_origin, Bounds3, Ray};
+use crate::math::{offset_ray_origin, Ray};
 use crate::media::Medium;
 use crate::samplers::Sampler;
 use crate::scene_description::{Entity, SceneDescription, TextureValue};
@@ -843,20 +843,23 @@ fn primitive_bounds(
     shapes: &ShapeStorage,
     placed_ends: &[(usize, pbrt_parser::Location)],
 ) -> Result<Vec<BuildBox>> {
-    let bounds: Vec<Bounds3> = primitives
+    // Made as the builder's boxes directly: the scene never holds a second
+    // array of bounds beside them.
+    let boxes: Vec<BuildBox> = primitives
         .par_iter()
-        .map(|p| p.shape.bounds(shapes))
+        .map(|p| build_box(&p.shape.bounds(shapes)))
         .collect();
     // The BVH builder needs finite boxes (a projective transform or huge
     // coordinates can give infinite or NaN ones; obvhs then indexes out
     // of bounds).
-    let finite = |b: &Bounds3| b.min.is_finite() && b.max.is_finite();
-    if let Some(i) = bounds.par_iter().position_first(|b| !finite(b)) {
-        let b = bounds[i];
+    let finite = |b: &BuildBox| b.min.is_finite() && b.max.is_finite();
+    if let Some(i) = boxes.par_iter().position_first(|b| !finite(b)) {
+        let b = boxes[i];
         let message = format!(
             "the shape's bounds in render space are not finite (from {} to {}): \
              a projective transform or coordinates beyond the float range?",
-            b.min, b.max
+            Vec3::from(b.min),
+            Vec3::from(b.max)
         );
         let placed = placed_ends.partition_point(|&(end, _)| end <= i);
         return match placed_ends.get(placed) {
@@ -864,7 +867,7 @@ fn primitive_bounds(
             None => Err(crate::error::Error::Usage(message)),
         };
     }
-    Ok(bounds.par_iter().map(build_box).collect())
+    Ok(boxes)
 }
 
 /// What the accelerator phase makes.
