@@ -268,10 +268,10 @@ fn untyped_option<'a>(input: &'a [u8], locate: &Locate<'_>) -> PResult<'a, Param
         rest,
         Param {
             ty,
-            name: name.trim().to_string(),
+            v3_type: false,
+            name: crate::Name::new(name.trim()),
             values,
             location: locate(input),
-            v3_type: None,
         },
     ))
 }
@@ -282,10 +282,10 @@ fn param<'a>(input: &'a [u8], locate: &Locate<'_>) -> PResult<'a, Param> {
         rest,
         Param {
             ty,
+            v3_type,
             name,
             values,
             location: locate(input),
-            v3_type,
         },
     ))
 }

@@ -19,6 +19,7 @@ mod format;
 mod grammar;
 pub mod lexer;
 mod location;
+mod name;
 pub mod param;
 mod source;
 pub mod upgrade;
@@ -27,6 +28,7 @@ pub use directive::{ActiveTransform, Directive, Entity, Located};
 pub use error::{ErrorKind, ParseError};
 pub use format::Formatter;
 pub use location::{LineColumn, Location, SourceFile};
+pub use name::Name;
 pub use param::{Param, ParamType, Values};
 pub use source::decompressing_reader;
 

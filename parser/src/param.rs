@@ -3,6 +3,7 @@
 use crate::error::ErrorKind;
 use crate::lexer::{self, describe, fail, LexError, PResult};
 use crate::location::Location;
+use crate::name::Name;
 
 /// The declared type of a parameter.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -67,6 +68,17 @@ impl ParamType {
         })
     }
 
+    /// The pbrt-v3 spelling that [`ParamType::from_name`] reads as this
+    /// type, if there is one (for the upgrade's note).
+    pub fn v3_name(self) -> Option<&'static str> {
+        match self {
+            ParamType::Point3 => Some("point"),
+            ParamType::Vector3 => Some("vector"),
+            ParamType::Rgb => Some("color"),
+            _ => None,
+        }
+    }
+
     /// Number of values per element (3 for a point3), for numeric types.
     pub fn arity(self) -> usize {
         match self {
@@ -77,12 +89,13 @@ impl ParamType {
     }
 }
 
-/// The values of a parameter, as written.
+/// The values of a parameter, as written. Boxed slices, not vectors: a
+/// scene description holds millions of them, and they never grow.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Values {
-    Numbers(Vec<f64>),
-    Strings(Vec<String>),
-    Bools(Vec<bool>),
+    Numbers(Box<[f64]>),
+    Strings(Box<[String]>),
+    Bools(Box<[bool]>),
 }
 
 impl Values {
@@ -99,16 +112,18 @@ impl Values {
     }
 }
 
-/// One parameter of a directive.
+/// One parameter of a directive (64 bytes: a hair file's description is
+/// mostly these).
 #[derive(Clone, Debug)]
 pub struct Param {
     pub ty: ParamType,
-    pub name: String,
+    /// Whether the declaration used `ty`'s pbrt-v3 name
+    /// ([`ParamType::v3_name`]: `point`, `vector`, `color`).
+    pub v3_type: bool,
+    pub name: Name,
     pub values: Values,
     /// Where the `"type name"` declaration starts.
     pub location: Location,
-    /// Whether the declaration used a pbrt-v3 type name (`point`, `color`, ...).
-    pub v3_type: Option<String>,
 }
 
 impl PartialEq for Param {
@@ -160,14 +175,14 @@ pub fn value_list(input: &[u8]) -> PResult<'_, Values> {
         Some(b'[') => bracketed_values(input),
         Some(b'"') => {
             let (rest, s) = lexer::quoted_string(input)?;
-            Ok((rest, Values::Strings(vec![s])))
+            Ok((rest, Values::Strings(Box::new([s]))))
         }
         Some(_) if lexer::starts_number(input) => {
             let (rest, x) = lexer::number(input)?;
-            Ok((rest, Values::Numbers(vec![x])))
+            Ok((rest, Values::Numbers(Box::new([x]))))
         }
         Some(_) => match boolean(input) {
-            Some((rest, b)) => Ok((rest, Values::Bools(vec![b]))),
+            Some((rest, b)) => Ok((rest, Values::Bools(Box::new([b])))),
             None => fail(
                 input,
                 ErrorKind::Expected {
@@ -192,47 +207,93 @@ fn boolean(input: &[u8]) -> Option<(&[u8], bool)> {
 
 /// `[ ... ]`; `open` starts at the `[` (where an unclosed list is reported).
 fn bracketed_values(open: &[u8]) -> PResult<'_, Values> {
-    let mut rest = lexer::skip_space(&open[1..]);
+    let rest = lexer::skip_space(&open[1..]);
     // The first element decides the kind of the list.
-    let mut values = match rest.first() {
-        Some(b']') => return Ok((&rest[1..], Values::Numbers(Vec::new()))),
-        Some(b'"') => Values::Strings(Vec::new()),
-        Some(b't' | b'f') => Values::Bools(Vec::new()),
-        _ => Values::Numbers(Vec::with_capacity(16)),
-    };
+    match rest.first() {
+        Some(b']') => Ok((&rest[1..], Values::Numbers(Box::new([])))),
+        Some(b'"') => {
+            let (rest, v) = listed(open, rest, "strings", |r| {
+                if r[0] != b'"' {
+                    return Ok((r, None));
+                }
+                lexer::quoted_string(r).map(|(r, s)| (r, Some(s)))
+            })?;
+            Ok((rest, Values::Strings(v.into_boxed_slice())))
+        }
+        Some(b't' | b'f') => {
+            let (rest, v) = listed(open, rest, "bools (true or false)", |r| {
+                Ok(boolean(r).map_or((r, None), |(r, b)| (r, Some(b))))
+            })?;
+            Ok((rest, Values::Bools(v.into_boxed_slice())))
+        }
+        _ => bracketed_numbers(open, rest),
+    }
+}
+
+/// The values of a list of strings or bools, `value` reading one (`None`
+/// when the text is not one); `rest` is past the `[` that `open` starts at.
+fn listed<'a, T>(
+    open: &'a [u8],
+    mut rest: &'a [u8],
+    expected: &'static str,
+    value: impl Fn(&'a [u8]) -> PResult<'a, Option<T>>,
+) -> PResult<'a, Vec<T>> {
+    let mut values = Vec::new();
     loop {
         match rest.first() {
             Some(b']') => return Ok((&rest[1..], values)),
             None => return fail(open, unclosed_bracket(open)),
             _ => {}
         }
-        match &mut values {
-            Values::Numbers(v) => {
-                if !lexer::starts_number(rest) {
-                    return fail(rest, mixed_or_bad(open, rest, "numbers"));
-                }
-                let (r, x) = lexer::number(rest)?;
-                v.push(x);
-                rest = r;
+        match value(rest)? {
+            (r, Some(v)) => {
+                values.push(v);
+                rest = lexer::skip_space(r);
             }
-            Values::Strings(v) => {
-                if rest[0] != b'"' {
-                    return fail(rest, mixed_or_bad(open, rest, "strings"));
-                }
-                let (r, s) = lexer::quoted_string(rest)?;
-                v.push(s);
-                rest = r;
-            }
-            Values::Bools(v) => match boolean(rest) {
-                Some((r, b)) => {
-                    v.push(b);
-                    rest = r;
-                }
-                None => return fail(rest, mixed_or_bad(open, rest, "bools (true or false)")),
-            },
+            (_, None) => return fail(rest, mixed_or_bad(open, rest, expected)),
         }
-        rest = lexer::skip_space(rest);
     }
+}
+
+/// Numbers up to this many are gathered on the stack, so that a list's one
+/// allocation is its final, exact one (a curve's `P` has 12).
+const STACK_NUMBERS: usize = 32;
+
+/// A list of numbers; `rest` is past the `[` that `open` starts at.
+fn bracketed_numbers<'a>(open: &'a [u8], mut rest: &'a [u8]) -> PResult<'a, Values> {
+    let mut first = [0.0; STACK_NUMBERS];
+    let mut count = 0;
+    // The numbers past the first `STACK_NUMBERS`, all of them once there
+    // are more.
+    let mut all: Vec<f64> = Vec::new();
+    loop {
+        match rest.first() {
+            Some(b']') => break,
+            None => return fail(open, unclosed_bracket(open)),
+            _ => {}
+        }
+        if !lexer::starts_number(rest) {
+            return fail(rest, mixed_or_bad(open, rest, "numbers"));
+        }
+        let (r, x) = lexer::number(rest)?;
+        if count < STACK_NUMBERS {
+            first[count] = x;
+        } else {
+            if all.is_empty() {
+                all.reserve(4 * STACK_NUMBERS);
+                all.extend_from_slice(&first);
+            }
+            all.push(x);
+        }
+        count += 1;
+        rest = lexer::skip_space(r);
+    }
+    let values = if count <= STACK_NUMBERS {
+        Box::from(&first[..count])
+    } else {
+        all.into_boxed_slice()
+    };
+    Ok((&rest[1..], Values::Numbers(values)))
 }
 
 /// The error for a `[` (starting `open`) that the input ends inside.
@@ -272,16 +333,16 @@ pub fn validate(ty: ParamType, name: &str, values: &mut Values) -> Result<(), Er
     // An empty list `[ ]` is a list of whatever kind is wanted.
     if values.is_empty() {
         *values = match ty {
-            ParamType::Bool => Values::Bools(Vec::new()),
-            ParamType::String | ParamType::Texture => Values::Strings(Vec::new()),
-            _ => Values::Numbers(Vec::new()),
+            ParamType::Bool => Values::Bools(Box::new([])),
+            ParamType::String | ParamType::Texture => Values::Strings(Box::new([])),
+            _ => Values::Numbers(Box::new([])),
         };
     }
     match (ty, &*values) {
         (ParamType::Bool, Values::Bools(_)) => Ok(()),
         // pbrt-v4 also accepts quoted "true" / "false" for bools.
         (ParamType::Bool, Values::Strings(s)) => {
-            let bools: Option<Vec<bool>> = s
+            let bools: Option<Box<[bool]>> = s
                 .iter()
                 .map(|s| match s.as_str() {
                     "true" => Some(true),
@@ -337,9 +398,9 @@ pub fn validate(ty: ParamType, name: &str, values: &mut Values) -> Result<(), Er
     }
 }
 
-/// A parsed declaration: remaining input, type, name, values, and the
-/// pbrt-v3 type name if one was used.
-pub type Declaration<'a> = (&'a [u8], ParamType, String, Values, Option<String>);
+/// A parsed declaration: remaining input, type, name, values, and whether
+/// the type was written with its pbrt-v3 name.
+pub type Declaration<'a> = (&'a [u8], ParamType, Name, Values, bool);
 
 /// Parses a `"type name"` declaration and its values.
 pub fn declaration_and_values(input: &[u8]) -> Result<Declaration<'_>, nom::Err<LexError<'_>>> {
@@ -360,19 +421,17 @@ pub fn declaration_and_values(input: &[u8]) -> Result<Declaration<'_>, nom::Err<
             },
         )));
     };
-    let name = name.to_string();
-    let v3_type = is_v3.then(|| tyname.to_string());
     let (rest, mut values) = value_list(rest)?;
-    validate(ty, &name, &mut values)
+    validate(ty, name, &mut values)
         .map_err(|kind| nom::Err::Failure(LexError::new(start, kind)))?;
-    Ok((rest, ty, name, values, v3_type))
+    Ok((rest, ty, Name::new(name), values, is_v3))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    fn parse(text: &str) -> Result<(ParamType, String, Values), ErrorKind> {
+    fn parse(text: &str) -> Result<(ParamType, Name, Values), ErrorKind> {
         match declaration_and_values(text.as_bytes()) {
             Ok((_, ty, name, values, _)) => Ok((ty, name, values)),
             Err(nom::Err::Failure(e) | nom::Err::Error(e)) => Err(e.kind),
@@ -384,7 +443,7 @@ mod tests {
     fn declarations_with_any_whitespace() {
         let (ty, name, values) = parse("\"float\tradius \" 2").unwrap();
         assert_eq!((ty, name.as_str()), (ParamType::Float, "radius"));
-        assert_eq!(values, Values::Numbers(vec![2.0]));
+        assert_eq!(values, Values::Numbers(Box::new([2.0])));
         let (ty, _, values) = parse("\" point3  P\" [ 1 2 3 4 5 6 ]").unwrap();
         assert_eq!(ty, ParamType::Point3);
         assert_eq!(values.len(), 6);
@@ -394,11 +453,11 @@ mod tests {
     fn bools_bare_or_quoted() {
         assert_eq!(
             parse("\"bool b\" true").unwrap().2,
-            Values::Bools(vec![true])
+            Values::Bools(Box::new([true]))
         );
         assert_eq!(
             parse("\"bool b\" [ \"false\" ]").unwrap().2,
-            Values::Bools(vec![false])
+            Values::Bools(Box::new([false]))
         );
         assert!(parse("\"bool b\" 1").is_err());
     }

@@ -25,7 +25,7 @@ impl Entity {
     fn rename(&mut self, from: &str, to: &str) -> bool {
         let mut renamed = false;
         for p in self.params.iter_mut().filter(|p| p.name == from) {
-            p.name = to.to_string();
+            p.name = to.into();
             renamed = true;
         }
         renamed
@@ -39,10 +39,10 @@ impl Entity {
             .unwrap_or_else(crate::Location::nowhere);
         self.params.push(Param {
             ty,
-            name: name.to_string(),
+            v3_type: false,
+            name: name.into(),
             values,
             location,
-            v3_type: None,
         });
     }
 }
@@ -79,7 +79,7 @@ pub fn upgrade(directive: &mut Directive, notes: &mut Vec<String>) {
                     like.as_ref(),
                     ParamType::String,
                     "mapping",
-                    Values::Strings(vec!["equirectangular".into()]),
+                    Values::Strings(Box::new(["equirectangular".into()])),
                 );
             }
             if e.kind == "realistic" && !e.take("simpleweighting").is_empty() {
@@ -104,7 +104,7 @@ pub fn upgrade(directive: &mut Directive, notes: &mut Vec<String>) {
             e.params = inner.params;
             if inner.kind != ty {
                 if let Some(p) = e.params.iter_mut().find(|p| p.name == "type") {
-                    p.values = Values::Strings(vec![inner.kind]);
+                    p.values = Values::Strings(Box::new([inner.kind]));
                 }
             }
         }
@@ -132,7 +132,7 @@ pub fn upgrade(directive: &mut Directive, notes: &mut Vec<String>) {
         Directive::MakeNamedMedium(e) => {
             for p in e.params.iter_mut().filter(|p| p.name == "type") {
                 if p.strings() == ["heterogeneous"] {
-                    p.values = Values::Strings(vec!["uniformgrid".into()]);
+                    p.values = Values::Strings(Box::new(["uniformgrid".into()]));
                     notes.push("pbrt-v3 medium \"heterogeneous\" read as \"uniformgrid\"".into());
                 }
             }
@@ -158,7 +158,10 @@ pub fn upgrade(directive: &mut Directive, notes: &mut Vec<String>) {
         _ => None,
     };
     for p in params.into_iter().flatten() {
-        if let Some(v3) = p.v3_type.take() {
+        if let Some(v3) = std::mem::take(&mut p.v3_type)
+            .then(|| p.ty.v3_name())
+            .flatten()
+        {
             notes.push(format!(
                 "pbrt-v3 parameter type \"{v3}\" read as \"{}\" ({keyword})",
                 p.ty.name()
@@ -201,7 +204,7 @@ fn film(e: &mut Entity, notes: &mut Vec<String>) {
             Some(&p),
             ParamType::Float,
             "maxcomponentvalue",
-            Values::Numbers(vec![v]),
+            Values::Numbers(Box::new([v])),
         );
     }
     for p in e.take("scale") {
@@ -211,7 +214,7 @@ fn film(e: &mut Entity, notes: &mut Vec<String>) {
             Some(&p),
             ParamType::Float,
             "iso",
-            Values::Numbers(vec![100.0 * v]),
+            Values::Numbers(Box::new([100.0 * v])),
         );
     }
 }
@@ -230,7 +233,7 @@ fn integrator(e: &mut Entity, notes: &mut Vec<String>) {
             Some(&p),
             ParamType::String,
             "lightsampler",
-            Values::Strings(vec![v]),
+            Values::Strings(Box::new([v])),
         );
     }
     if e.kind == "sppm" {
@@ -247,7 +250,7 @@ fn integrator(e: &mut Entity, notes: &mut Vec<String>) {
             None,
             ParamType::Integer,
             "maxdepth",
-            Values::Numbers(vec![1.0]),
+            Values::Numbers(Box::new([1.0])),
         );
     }
 }
@@ -265,7 +268,7 @@ fn filter(e: &mut Entity, notes: &mut Vec<String>) {
                 Some(&p),
                 ParamType::Float,
                 "sigma",
-                Values::Numbers(vec![1.0 / (2.0 * alpha).sqrt()]),
+                Values::Numbers(Box::new([1.0 / (2.0 * alpha).sqrt()])),
             );
         }
     }
@@ -344,14 +347,14 @@ fn material(e: &mut Entity, notes: &mut Vec<String>) {
             let kr = e.take("Kr");
             let reflectance = kr
                 .first()
-                .map_or(Values::Numbers(vec![0.9, 0.9, 0.9]), |p| p.values.clone());
+                .map_or(Values::Numbers(Box::new([0.9, 0.9, 0.9])), |p| p.values.clone());
             let ty = kr.first().map_or(ParamType::Rgb, |p| p.ty);
             e.push_like(kr.first(), ty, "reflectance", reflectance);
             e.push_like(
                 None,
                 ParamType::Float,
                 "roughness",
-                Values::Numbers(vec![0.0]),
+                Values::Numbers(Box::new([0.0])),
             );
             rename_kind(e, "conductor", "Material", notes);
         }
@@ -391,7 +394,7 @@ fn material(e: &mut Entity, notes: &mut Vec<String>) {
                     Some(a),
                     ParamType::String,
                     "materials",
-                    Values::Strings(names),
+                    Values::Strings(names.into()),
                 );
             }
             let amount = e.take("amount");
@@ -403,7 +406,7 @@ fn material(e: &mut Entity, notes: &mut Vec<String>) {
                             Some(&p),
                             ParamType::Float,
                             "amount",
-                            Values::Numbers(vec![(r + g + b) / 3.0]),
+                            Values::Numbers(Box::new([(r + g + b) / 3.0])),
                         );
                     }
                     _ => e.params.push(p),
@@ -433,7 +436,7 @@ fn texture(value_type: &str, class: &mut Entity, notes: &mut Vec<String>) {
                         Some(&p),
                         ParamType::Float,
                         "scale",
-                        Values::Numbers(vec![grey(&p).unwrap_or(1.0)]),
+                        Values::Numbers(Box::new([grey(&p).unwrap_or(1.0)])),
                     );
                 } else {
                     rename_param(class, "tex1", "tex", "scale texture", notes);
@@ -453,7 +456,7 @@ fn texture(value_type: &str, class: &mut Entity, notes: &mut Vec<String>) {
                     Some(&p),
                     ParamType::String,
                     "filter",
-                    Values::Strings(vec![filter.into()]),
+                    Values::Strings(Box::new([filter.into()])),
                 );
             }
             for p in class.take("gamma") {
@@ -467,7 +470,7 @@ fn texture(value_type: &str, class: &mut Entity, notes: &mut Vec<String>) {
                     Some(&p),
                     ParamType::String,
                     "encoding",
-                    Values::Strings(vec![encoding]),
+                    Values::Strings(Box::new([encoding])),
                 );
             }
         }
@@ -507,7 +510,7 @@ fn blackbody(e: &mut Entity, name: &str, mut scale: f64, notes: &mut Vec<String>
             if v.len() == 2 {
                 notes.push("pbrt-v3 two-value blackbody (temperature, scale) read as temperature and \"scale\"".into());
                 scale *= v[1];
-                v.truncate(1);
+                *v = Box::new([v[0]]);
             }
         }
     }
@@ -521,7 +524,7 @@ fn blackbody(e: &mut Entity, name: &str, mut scale: f64, notes: &mut Vec<String>
             existing.first(),
             ParamType::Float,
             "scale",
-            Values::Numbers(vec![base * scale]),
+            Values::Numbers(Box::new([base * scale])),
         );
     }
 }
@@ -571,7 +574,7 @@ fn shape(e: &mut Entity, notes: &mut Vec<String>) {
         if let Some(p) = st.iter().chain(uv.iter()).next() {
             notes.push("pbrt-v3 \"float uv\"/\"st\" read as \"point2 uv\"".into());
             let values = p.numbers().to_vec();
-            e.push_like(Some(p), ParamType::Point2, "uv", Values::Numbers(values));
+            e.push_like(Some(p), ParamType::Point2, "uv", Values::Numbers(values.into()));
         }
     }
 }

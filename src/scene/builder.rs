@@ -733,7 +733,7 @@ impl SceneBuilder {
         let name = set
             .iter()
             .next()
-            .map(|p| p.name.clone())
+            .map(|p| p.name.to_string())
             .unwrap_or_default();
         let o = &mut self.scene.options;
         let expect = |ty: T| -> Result<()> { set.find(&name, &[ty]).map(|_| ()) };
