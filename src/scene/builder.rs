@@ -13,7 +13,7 @@ use crate::scene_description::params::ParamSet;
 use crate::scene_description::schema::{self, Category};
 use crate::scene_description::*;
 use glam::DVec3;
-use pbrt_parser::{
+use pbrt_parser::{Name, 
     ActiveTransform, Directive, Entity as ParsedEntity, Located, Location, Param, Parser, Warning,
 };
 use std::collections::{BTreeMap, HashMap, HashSet};
@@ -63,8 +63,8 @@ struct GraphicsState {
     reverse_orientation: bool,
     material: MaterialRef,
     area_light: Option<(ParsedEntity, Location)>,
-    inside_medium: String,
-    outside_medium: String,
+    inside_medium: Name,
+    outside_medium: Name,
     color_space: ColorSpaceName,
     /// The `Attribute` parameters, indexed by [`AttributeTarget`].
     attributes: [Vec<Param>; AttributeTarget::ALL.len()],
@@ -79,8 +79,8 @@ impl Default for GraphicsState {
             // pbrt starts with an anonymous default "diffuse" material.
             material: MaterialRef::Anonymous(0),
             area_light: None,
-            inside_medium: String::new(),
-            outside_medium: String::new(),
+            inside_medium: Name::new(""),
+            outside_medium: Name::new(""),
             color_space: ColorSpaceName::Srgb,
             attributes: Default::default(),
         }
@@ -142,7 +142,7 @@ fn invertible(matrix: &[f64; 16], keyword: &str, loc: &Location) -> Result<Trans
 
 fn default_entity(kind: &str) -> Entity {
     Entity {
-        kind: kind.to_string(),
+        kind: Name::new(kind),
         params: ParamSet::default(),
         color_space: ColorSpaceName::Srgb,
         location: Loc(Location::nowhere()),
@@ -278,7 +278,7 @@ impl SceneBuilder {
         let params = ParamSet::new(params, attributes);
         schema::check(category, kind, &params, location)?;
         Ok(Entity {
-            kind: kind.to_string(),
+            kind: Name::new(kind),
             params,
             color_space: self.state.color_space,
             location: Loc(location.clone()),
@@ -368,7 +368,7 @@ impl SceneBuilder {
             D::MakeNamedMaterial(e) => self.make_named_material(e, keyword, loc)?,
             D::NamedMaterial(name) => {
                 self.require(Block::World, keyword, loc)?;
-                self.state.material = MaterialRef::Named(name);
+                self.state.material = MaterialRef::Named(name.into());
             }
             D::Texture {
                 name,
@@ -377,8 +377,8 @@ impl SceneBuilder {
             } => self.texture(name, &value_type, class, keyword, loc)?,
             D::MakeNamedMedium(e) => self.make_named_medium(e, loc)?,
             D::MediumInterface { inside, outside } => {
-                self.state.inside_medium = inside;
-                self.state.outside_medium = outside;
+                self.state.inside_medium = inside.into();
+                self.state.outside_medium = outside.into();
             }
             D::LightSource(e) => self.light_source(e, keyword, loc)?,
             D::AreaLightSource(e) => {
@@ -468,7 +468,7 @@ impl SceneBuilder {
         self.scene.camera = Camera {
             entity,
             camera_from_world,
-            medium: self.state.outside_medium.clone(),
+            medium: self.state.outside_medium.to_string(),
         };
         Ok(())
     }
@@ -545,7 +545,7 @@ impl SceneBuilder {
             loc,
         )?;
         self.scene.materials.push(entity);
-        self.state.material = MaterialRef::Anonymous(self.scene.materials.len() - 1);
+        self.state.material = MaterialRef::Anonymous(self.scene.materials.len() as u32 - 1);
         Ok(())
     }
 
@@ -654,7 +654,7 @@ impl SceneBuilder {
         self.scene.lights.push(Light {
             entity,
             world_from_light: self.state.ctm[0],
-            medium: self.state.outside_medium.clone(),
+            medium: self.state.outside_medium.to_string(),
         });
         Ok(())
     }
@@ -804,7 +804,7 @@ impl SceneBuilder {
                     light_loc,
                 )?;
                 self.scene.area_lights.push(light);
-                area_light = Some(self.scene.area_lights.len() - 1);
+                area_light = Some(self.scene.area_lights.len() as u32 - 1);
             }
         }
         let shape = Shape {
@@ -879,7 +879,7 @@ impl SceneBuilder {
         for shape in all_shapes {
             let loc = &shape.entity.location.0;
             if let MaterialRef::Named(name) = &shape.material {
-                if !s.named_materials.contains_key(name) {
+                if !s.named_materials.contains_key(name.as_str()) {
                     return scene_error(format!("NamedMaterial \"{name}\" is not defined"), loc);
                 }
             }
@@ -933,7 +933,7 @@ impl SceneBuilder {
                 if let Some(pbrt_parser::Values::Strings(names)) = entity.params.values("materials")
                 {
                     for name in names {
-                        if !s.named_materials.contains_key(name) {
+                        if !s.named_materials.contains_key(name.as_str()) {
                             return scene_error(
                                 format!("mix material: material \"{name}\" is not defined"),
                                 &entity.location.0,

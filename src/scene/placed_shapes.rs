@@ -236,7 +236,7 @@ fn place<'s>(
             "curves cannot be area lights: emission from curves is not supported (as in pbrt-v4)",
             loc,
         ),
-        Some(a) => Some(&context.scene.area_lights[a]),
+        Some(a) => Some(&context.scene.area_lights[a as usize]),
         None => None,
     };
     // Every reader of the shape's parameters has run (alpha, the shape).

@@ -15,7 +15,7 @@ pub mod schema;
 
 use crate::math::Transform;
 pub use params::ParamSet;
-use pbrt_parser::Location;
+use pbrt_parser::{Location, Name};
 use std::collections::BTreeMap;
 use std::path::PathBuf;
 
@@ -40,8 +40,9 @@ impl std::fmt::Display for Loc {
 /// pbrt-v4's parameters for that type).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Entity {
-    /// The type: `"sphere"`, `"diffuse"`, `"perspective"`, ...
-    pub kind: String,
+    /// The type: `"sphere"`, `"diffuse"`, `"perspective"`, ... (shared:
+    /// a hair file's million shapes are all `"curve"`).
+    pub kind: Name,
     pub params: ParamSet,
     /// The colour space in force where the entity was declared.
     pub color_space: ColorSpaceName,
@@ -105,11 +106,14 @@ pub struct Camera {
 #[derive(Clone, Debug, PartialEq)]
 pub enum MaterialRef {
     /// Index into [`SceneDescription::materials`].
-    Anonymous(usize),
-    /// A name in [`SceneDescription::named_materials`].
-    Named(String),
+    Anonymous(u32),
+    /// A name in [`SceneDescription::named_materials`] (shared by the
+    /// shapes that use it).
+    Named(Name),
 }
 
+/// A `Shape` directive (about 150 bytes besides its parameters: a hair
+/// file holds a million of these, so names are shared and indices small).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Shape {
     pub entity: Entity,
@@ -117,9 +121,9 @@ pub struct Shape {
     pub reverse_orientation: bool,
     pub material: MaterialRef,
     /// Index into [`SceneDescription::area_lights`].
-    pub area_light: Option<usize>,
-    pub inside_medium: String,
-    pub outside_medium: String,
+    pub area_light: Option<u32>,
+    pub inside_medium: Name,
+    pub outside_medium: Name,
 }
 
 #[derive(Clone, Debug, PartialEq)]

@@ -16,7 +16,8 @@ use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
 /// (atomic, so that the shapes of a description can be made in parallel).
 #[derive(Debug, Default)]
 pub struct ParamSet {
-    params: Vec<Param>,
+    /// Boxed, not a vector: a description holds millions of these.
+    params: Box<[Param]>,
     /// How many of `params` are the directive's own; the rest came from
     /// `Attribute` (never reported unused).
     own: usize,
@@ -24,7 +25,7 @@ pub struct ParamSet {
     /// holds millions of these: no allocation for them).
     used: AtomicU64,
     /// Flags of parameters past the 64th.
-    used_beyond: Vec<AtomicBool>,
+    used_beyond: Box<[AtomicBool]>,
 }
 
 impl Clone for ParamSet {
@@ -57,7 +58,7 @@ impl ParamSet {
         ParamSet {
             used: AtomicU64::new(0),
             used_beyond: (64..all.len()).map(|_| AtomicBool::new(false)).collect(),
-            params: all,
+            params: all.into_boxed_slice(),
             own,
         }
     }
