@@ -71,6 +71,13 @@ impl Name {
     }
 }
 
+impl Default for Name {
+    /// The empty name (an unnamed medium, a string parameter left empty).
+    fn default() -> Self {
+        Name::new("")
+    }
+}
+
 impl Deref for Name {
     type Target = str;
 

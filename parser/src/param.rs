@@ -2,6 +2,7 @@
 
 use crate::error::ErrorKind;
 use crate::lexer::{self, describe, fail, LexError, PResult};
+use crate::list::List;
 use crate::location::Location;
 use crate::name::Name;
 
@@ -89,13 +90,14 @@ impl ParamType {
     }
 }
 
-/// The values of a parameter, as written. Boxed slices, not vectors: a
-/// scene description holds millions of them, and they never grow.
+/// The values of a parameter, as written (24 bytes, a single value
+/// inline: a scene description holds millions of them). Strings are
+/// shared names: a hair file's every curve says `"cylinder"`.
 #[derive(Clone, Debug, PartialEq)]
 pub enum Values {
-    Numbers(Box<[f64]>),
-    Strings(Box<[String]>),
-    Bools(Box<[bool]>),
+    Numbers(List<f64>),
+    Strings(List<Name>),
+    Bools(List<bool>),
 }
 
 impl Values {
@@ -141,7 +143,7 @@ impl Param {
         }
     }
 
-    pub fn strings(&self) -> &[String] {
+    pub fn strings(&self) -> &[Name] {
         match &self.values {
             Values::Strings(v) => v,
             _ => &[],
@@ -175,14 +177,14 @@ pub fn value_list(input: &[u8]) -> PResult<'_, Values> {
         Some(b'[') => bracketed_values(input),
         Some(b'"') => {
             let (rest, s) = lexer::quoted_string(input)?;
-            Ok((rest, Values::Strings(Box::new([s]))))
+            Ok((rest, Values::Strings(List::one(Name::new(&s)))))
         }
         Some(_) if lexer::starts_number(input) => {
             let (rest, x) = lexer::number(input)?;
-            Ok((rest, Values::Numbers(Box::new([x]))))
+            Ok((rest, Values::Numbers(List::one(x))))
         }
         Some(_) => match boolean(input) {
-            Some((rest, b)) => Ok((rest, Values::Bools(Box::new([b])))),
+            Some((rest, b)) => Ok((rest, Values::Bools(List::one(b)))),
             None => fail(
                 input,
                 ErrorKind::Expected {
@@ -210,21 +212,21 @@ fn bracketed_values(open: &[u8]) -> PResult<'_, Values> {
     let rest = lexer::skip_space(&open[1..]);
     // The first element decides the kind of the list.
     match rest.first() {
-        Some(b']') => Ok((&rest[1..], Values::Numbers(Box::new([])))),
+        Some(b']') => Ok((&rest[1..], Values::Numbers(List::empty()))),
         Some(b'"') => {
             let (rest, v) = listed(open, rest, "strings", |r| {
                 if r[0] != b'"' {
                     return Ok((r, None));
                 }
-                lexer::quoted_string(r).map(|(r, s)| (r, Some(s)))
+                lexer::quoted_string(r).map(|(r, s)| (r, Some(Name::new(&s))))
             })?;
-            Ok((rest, Values::Strings(v.into_boxed_slice())))
+            Ok((rest, Values::Strings(v.into())))
         }
         Some(b't' | b'f') => {
             let (rest, v) = listed(open, rest, "bools (true or false)", |r| {
                 Ok(boolean(r).map_or((r, None), |(r, b)| (r, Some(b))))
             })?;
-            Ok((rest, Values::Bools(v.into_boxed_slice())))
+            Ok((rest, Values::Bools(v.into())))
         }
         _ => bracketed_numbers(open, rest),
     }
@@ -289,9 +291,9 @@ fn bracketed_numbers<'a>(open: &'a [u8], mut rest: &'a [u8]) -> PResult<'a, Valu
         rest = lexer::skip_space(r);
     }
     let values = if count <= STACK_NUMBERS {
-        Box::from(&first[..count])
+        List::from(&first[..count])
     } else {
-        all.into_boxed_slice()
+        List::from(all)
     };
     Ok((&rest[1..], Values::Numbers(values)))
 }
@@ -333,16 +335,16 @@ pub fn validate(ty: ParamType, name: &str, values: &mut Values) -> Result<(), Er
     // An empty list `[ ]` is a list of whatever kind is wanted.
     if values.is_empty() {
         *values = match ty {
-            ParamType::Bool => Values::Bools(Box::new([])),
-            ParamType::String | ParamType::Texture => Values::Strings(Box::new([])),
-            _ => Values::Numbers(Box::new([])),
+            ParamType::Bool => Values::Bools(List::empty()),
+            ParamType::String | ParamType::Texture => Values::Strings(List::empty()),
+            _ => Values::Numbers(List::empty()),
         };
     }
     match (ty, &*values) {
         (ParamType::Bool, Values::Bools(_)) => Ok(()),
         // pbrt-v4 also accepts quoted "true" / "false" for bools.
         (ParamType::Bool, Values::Strings(s)) => {
-            let bools: Option<Box<[bool]>> = s
+            let bools: Option<List<bool>> = s
                 .iter()
                 .map(|s| match s.as_str() {
                     "true" => Some(true),
@@ -443,7 +445,7 @@ mod tests {
     fn declarations_with_any_whitespace() {
         let (ty, name, values) = parse("\"float\tradius \" 2").unwrap();
         assert_eq!((ty, name.as_str()), (ParamType::Float, "radius"));
-        assert_eq!(values, Values::Numbers(Box::new([2.0])));
+        assert_eq!(values, Values::Numbers(List::one(2.0)));
         let (ty, _, values) = parse("\" point3  P\" [ 1 2 3 4 5 6 ]").unwrap();
         assert_eq!(ty, ParamType::Point3);
         assert_eq!(values.len(), 6);
@@ -453,11 +455,11 @@ mod tests {
     fn bools_bare_or_quoted() {
         assert_eq!(
             parse("\"bool b\" true").unwrap().2,
-            Values::Bools(Box::new([true]))
+            Values::Bools(List::one(true))
         );
         assert_eq!(
             parse("\"bool b\" [ \"false\" ]").unwrap().2,
-            Values::Bools(Box::new([false]))
+            Values::Bools(List::one(false))
         );
         assert!(parse("\"bool b\" 1").is_err());
     }

@@ -6,6 +6,8 @@
 //! (the parser shows each distinct note once).
 
 use crate::directive::{Directive, Entity};
+use crate::list::List;
+use crate::name::Name;
 use crate::param::{Param, ParamType, Values};
 
 impl Entity {
@@ -79,7 +81,7 @@ pub fn upgrade(directive: &mut Directive, notes: &mut Vec<String>) {
                     like.as_ref(),
                     ParamType::String,
                     "mapping",
-                    Values::Strings(Box::new(["equirectangular".into()])),
+                    Values::Strings(List::one(Name::new("equirectangular"))),
                 );
             }
             if e.kind == "realistic" && !e.take("simpleweighting").is_empty() {
@@ -94,8 +96,8 @@ pub fn upgrade(directive: &mut Directive, notes: &mut Vec<String>) {
             // The material type is the "string type" parameter.
             let ty = e
                 .param("type")
-                .and_then(|p| p.strings().first().cloned())
-                .unwrap_or_default();
+                .and_then(|p| p.strings().first())
+                .map_or_else(String::new, |s| s.to_string());
             let mut inner = Entity {
                 kind: ty.clone(),
                 params: std::mem::take(&mut e.params),
@@ -104,7 +106,7 @@ pub fn upgrade(directive: &mut Directive, notes: &mut Vec<String>) {
             e.params = inner.params;
             if inner.kind != ty {
                 if let Some(p) = e.params.iter_mut().find(|p| p.name == "type") {
-                    p.values = Values::Strings(Box::new([inner.kind]));
+                    p.values = Values::Strings(List::one(Name::from(inner.kind)));
                 }
             }
         }
@@ -132,7 +134,7 @@ pub fn upgrade(directive: &mut Directive, notes: &mut Vec<String>) {
         Directive::MakeNamedMedium(e) => {
             for p in e.params.iter_mut().filter(|p| p.name == "type") {
                 if p.strings() == ["heterogeneous"] {
-                    p.values = Values::Strings(Box::new(["uniformgrid".into()]));
+                    p.values = Values::Strings(List::one(Name::new("uniformgrid")));
                     notes.push("pbrt-v3 medium \"heterogeneous\" read as \"uniformgrid\"".into());
                 }
             }
@@ -204,7 +206,7 @@ fn film(e: &mut Entity, notes: &mut Vec<String>) {
             Some(&p),
             ParamType::Float,
             "maxcomponentvalue",
-            Values::Numbers(Box::new([v])),
+            Values::Numbers(List::from([v])),
         );
     }
     for p in e.take("scale") {
@@ -214,7 +216,7 @@ fn film(e: &mut Entity, notes: &mut Vec<String>) {
             Some(&p),
             ParamType::Float,
             "iso",
-            Values::Numbers(Box::new([100.0 * v])),
+            Values::Numbers(List::from([100.0 * v])),
         );
     }
 }
@@ -225,7 +227,7 @@ fn integrator(e: &mut Entity, notes: &mut Vec<String>) {
     }
     for p in e.take("lightsamplestrategy") {
         notes.push("pbrt-v3 Integrator \"lightsamplestrategy\" read as \"lightsampler\"".into());
-        let v = match p.strings().first().map(String::as_str) {
+        let v = match p.strings().first().map(Name::as_str) {
             Some("spatial") | None => "bvh".to_string(),
             Some(other) => other.to_string(),
         };
@@ -233,7 +235,7 @@ fn integrator(e: &mut Entity, notes: &mut Vec<String>) {
             Some(&p),
             ParamType::String,
             "lightsampler",
-            Values::Strings(Box::new([v])),
+            Values::Strings(List::one(Name::from(v))),
         );
     }
     if e.kind == "sppm" {
@@ -250,7 +252,7 @@ fn integrator(e: &mut Entity, notes: &mut Vec<String>) {
             None,
             ParamType::Integer,
             "maxdepth",
-            Values::Numbers(Box::new([1.0])),
+            Values::Numbers(List::from([1.0])),
         );
     }
 }
@@ -268,7 +270,7 @@ fn filter(e: &mut Entity, notes: &mut Vec<String>) {
                 Some(&p),
                 ParamType::Float,
                 "sigma",
-                Values::Numbers(Box::new([1.0 / (2.0 * alpha).sqrt()])),
+                Values::Numbers(List::from([1.0 / (2.0 * alpha).sqrt()])),
             );
         }
     }
@@ -347,14 +349,14 @@ fn material(e: &mut Entity, notes: &mut Vec<String>) {
             let kr = e.take("Kr");
             let reflectance = kr
                 .first()
-                .map_or(Values::Numbers(Box::new([0.9, 0.9, 0.9])), |p| p.values.clone());
+                .map_or(Values::Numbers(List::from([0.9, 0.9, 0.9])), |p| p.values.clone());
             let ty = kr.first().map_or(ParamType::Rgb, |p| p.ty);
             e.push_like(kr.first(), ty, "reflectance", reflectance);
             e.push_like(
                 None,
                 ParamType::Float,
                 "roughness",
-                Values::Numbers(Box::new([0.0])),
+                Values::Numbers(List::from([0.0])),
             );
             rename_kind(e, "conductor", "Material", notes);
         }
@@ -406,7 +408,7 @@ fn material(e: &mut Entity, notes: &mut Vec<String>) {
                             Some(&p),
                             ParamType::Float,
                             "amount",
-                            Values::Numbers(Box::new([(r + g + b) / 3.0])),
+                            Values::Numbers(List::from([(r + g + b) / 3.0])),
                         );
                     }
                     _ => e.params.push(p),
@@ -436,7 +438,7 @@ fn texture(value_type: &str, class: &mut Entity, notes: &mut Vec<String>) {
                         Some(&p),
                         ParamType::Float,
                         "scale",
-                        Values::Numbers(Box::new([grey(&p).unwrap_or(1.0)])),
+                        Values::Numbers(List::from([grey(&p).unwrap_or(1.0)])),
                     );
                 } else {
                     rename_param(class, "tex1", "tex", "scale texture", notes);
@@ -456,7 +458,7 @@ fn texture(value_type: &str, class: &mut Entity, notes: &mut Vec<String>) {
                     Some(&p),
                     ParamType::String,
                     "filter",
-                    Values::Strings(Box::new([filter.into()])),
+                    Values::Strings(List::one(Name::new(filter))),
                 );
             }
             for p in class.take("gamma") {
@@ -470,7 +472,7 @@ fn texture(value_type: &str, class: &mut Entity, notes: &mut Vec<String>) {
                     Some(&p),
                     ParamType::String,
                     "encoding",
-                    Values::Strings(Box::new([encoding])),
+                    Values::Strings(List::one(Name::from(encoding))),
                 );
             }
         }
@@ -510,7 +512,7 @@ fn blackbody(e: &mut Entity, name: &str, mut scale: f64, notes: &mut Vec<String>
             if v.len() == 2 {
                 notes.push("pbrt-v3 two-value blackbody (temperature, scale) read as temperature and \"scale\"".into());
                 scale *= v[1];
-                *v = Box::new([v[0]]);
+                *v = List::one(v[0]);
             }
         }
     }
@@ -524,7 +526,7 @@ fn blackbody(e: &mut Entity, name: &str, mut scale: f64, notes: &mut Vec<String>
             existing.first(),
             ParamType::Float,
             "scale",
-            Values::Numbers(Box::new([base * scale])),
+            Values::Numbers(List::from([base * scale])),
         );
     }
 }

@@ -105,7 +105,7 @@ pub fn read(p: &ParamSet) -> Result<Option<(DualHairParams, Vec2)>> {
             return Ok(None);
         };
         match param.strings() {
-            [s] if options.contains(&s.as_str()) => Ok(Some(s.clone())),
+            [s] if options.contains(&s.as_str()) => Ok(Some(s.to_string())),
             _ => scene_error(
                 format!("\"{name}\" must be one of \"{}\"", options.join("\", \"")),
                 &param.location,

@@ -62,7 +62,7 @@ impl MixMaterial {
             );
         };
         Ok(MixMaterial {
-            names: [first.clone(), second.clone()],
+            names: [first.to_string(), second.to_string()],
             names_at,
             indices: [0; 2],
             materials: Vec::new(),

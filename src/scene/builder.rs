@@ -123,7 +123,7 @@ pub struct SceneBuilder {
 /// names the thing, not its type).
 fn declared_type(e: &ParsedEntity, what: &str, loc: &Location) -> Result<String> {
     match e.param("type").map(|p| p.strings()) {
-        Some([kind]) => Ok(kind.clone()),
+        Some([kind]) => Ok(kind.to_string()),
         _ => scene_error(
             format!("{what} \"{}\": \"string type\" not provided", e.kind),
             loc,

@@ -85,8 +85,8 @@ pub fn warnings(
                 continue;
             };
             for name in names.iter().filter(|n| n.starts_with("metal-")) {
-                if !named_metals.contains(name) {
-                    named_metals.push(name.clone());
+                if !named_metals.iter().any(|m| name == m) {
+                    named_metals.push(name.to_string());
                     out.push(Warning {
                         message: format!(
                             "spectrum \"{name}\": rpbrt's metal n, k are published measurements, not pbrt-v4's tables (close, not identical)"

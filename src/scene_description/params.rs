@@ -179,7 +179,7 @@ impl ParamSet {
             return Ok(default.to_string());
         };
         match p.strings() {
-            [s] => Ok(s.clone()),
+            [s] => Ok(s.to_string()),
             _ => scene_error(format!("expected one value for \"{name}\""), &p.location),
         }
     }
@@ -191,7 +191,7 @@ impl ParamSet {
             return Ok(None);
         };
         match p.strings() {
-            [s] => Ok(Some((s.clone(), p.location.clone()))),
+            [s] => Ok(Some((s.to_string(), p.location.clone()))),
             _ => scene_error(format!("expected one value for \"{name}\""), &p.location),
         }
     }
@@ -202,7 +202,7 @@ impl ParamSet {
             return Ok(None);
         };
         match p.strings() {
-            [s] => Ok(Some(s.clone())),
+            [s] => Ok(Some(s.to_string())),
             _ => scene_error(
                 format!("expected one texture name for \"{name}\""),
                 &p.location,
@@ -227,7 +227,9 @@ impl ParamSet {
     pub fn strings(&self, name: &str) -> Result<Vec<String>> {
         Ok(self
             .find(name, &[ParamType::String])?
-            .map_or_else(Vec::new, |p| p.strings().to_vec()))
+            .map_or_else(Vec::new, |p| {
+                p.strings().iter().map(|s| s.to_string()).collect()
+            }))
     }
 
     fn triples(&self, name: &str, ty: ParamType) -> Result<Vec<DVec3>> {
