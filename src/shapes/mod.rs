@@ -116,10 +116,12 @@ impl ShapeStorage {
             next_segment += other.curve_segments.len();
         }
         // One storage after another, each freed once moved (and the freed
-        // memory handed back every few): the appended pieces do not sit
-        // beside all the runs' copies of them.
+        // memory handed back about 32 times in all: after every run on 2
+        // cores): the appended pieces do not sit beside all the runs'
+        // copies of them.
         self.curve_pieces
             .reserve(next.curve_pieces as usize - self.curve_pieces.len());
+        let trim_every = others.len().div_ceil(32).max(1);
         for (k, (other, &shift)) in others.iter_mut().zip(&segment_offsets).enumerate() {
             let other = std::mem::take(other);
             self.curve_pieces.extend(
@@ -131,8 +133,8 @@ impl ShapeStorage {
             self.triangle_meshes.extend(other.triangle_meshes);
             self.bilinear_meshes.extend(other.bilinear_meshes);
             self.curve_segments.extend(other.curve_segments);
-            if k % 16 == 15 {
-                crate::memory::return_freed_memory("append 16 runs");
+            if k % trim_every == trim_every - 1 {
+                crate::memory::return_freed_memory("append runs");
             }
         }
         Ok(offsets)
