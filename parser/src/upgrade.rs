@@ -349,7 +349,9 @@ fn material(e: &mut Entity, notes: &mut Vec<String>) {
             let kr = e.take("Kr");
             let reflectance = kr
                 .first()
-                .map_or(Values::Numbers(List::from([0.9, 0.9, 0.9])), |p| p.values.clone());
+                .map_or(Values::Numbers(List::from([0.9, 0.9, 0.9])), |p| {
+                    p.values.clone()
+                });
             let ty = kr.first().map_or(ParamType::Rgb, |p| p.ty);
             e.push_like(kr.first(), ty, "reflectance", reflectance);
             e.push_like(
@@ -576,7 +578,12 @@ fn shape(e: &mut Entity, notes: &mut Vec<String>) {
         if let Some(p) = st.iter().chain(uv.iter()).next() {
             notes.push("pbrt-v3 \"float uv\"/\"st\" read as \"point2 uv\"".into());
             let values = p.numbers().to_vec();
-            e.push_like(Some(p), ParamType::Point2, "uv", Values::Numbers(values.into()));
+            e.push_like(
+                Some(p),
+                ParamType::Point2,
+                "uv",
+                Values::Numbers(values.into()),
+            );
         }
     }
 }

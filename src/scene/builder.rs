@@ -13,8 +13,9 @@ use crate::scene_description::params::ParamSet;
 use crate::scene_description::schema::{self, Category};
 use crate::scene_description::*;
 use glam::DVec3;
-use pbrt_parser::{Name, 
-    ActiveTransform, Directive, Entity as ParsedEntity, Located, Location, Param, Parser, Warning,
+use pbrt_parser::{
+    ActiveTransform, Directive, Entity as ParsedEntity, Located, Location, Name, Param, Parser,
+    Warning,
 };
 use std::collections::{BTreeMap, HashMap, HashSet};
 use std::path::{Path, PathBuf};

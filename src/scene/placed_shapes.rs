@@ -255,7 +255,7 @@ fn material_index(
     loc: &FileLoc,
 ) -> Result<u32> {
     match material {
-        MaterialRef::Anonymous(i) => Ok(*i as u32),
+        MaterialRef::Anonymous(i) => Ok(*i),
         MaterialRef::Named(name) => match named.get(name.as_str()) {
             Some(&i) => Ok(i),
             None => scene_error(format!("named material \"{name}\" is not defined"), loc),

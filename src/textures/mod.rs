@@ -310,7 +310,10 @@ impl TextureParams<'_> {
                 _ => scene_error(format!("\"float {name}\": expected one value"), &p.location),
             };
         }
-        let tex_name = p.strings().first().map_or_else(String::new, |s| s.to_string());
+        let tex_name = p
+            .strings()
+            .first()
+            .map_or_else(String::new, |s| s.to_string());
         match self.textures.float.get(&tex_name) {
             Some(t) => Ok(Some(t.clone())),
             None => scene_error(
@@ -338,7 +341,10 @@ impl TextureParams<'_> {
             ],
         )? {
             if p.ty == ParamType::Texture {
-                let tex_name = p.strings().first().map_or_else(String::new, |s| s.to_string());
+                let tex_name = p
+                    .strings()
+                    .first()
+                    .map_or_else(String::new, |s| s.to_string());
                 return match self
                     .textures
                     .spectrum
