@@ -128,6 +128,10 @@ pub struct Param {
     pub location: Location,
 }
 
+// The sizes promised above (on 64-bit targets), kept by the build.
+#[cfg(target_pointer_width = "64")]
+const _: () = assert!(std::mem::size_of::<Param>() == 64 && std::mem::size_of::<Values>() == 24);
+
 impl PartialEq for Param {
     /// Parameters compare by meaning, not by where they were written.
     fn eq(&self, other: &Self) -> bool {
