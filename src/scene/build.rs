@@ -773,9 +773,16 @@ fn create_primitives_and_lights<'s>(
         }
     };
     let mut placed_ends = Vec::new();
-    for ((placed_shapes, run_shapes, run_warnings, run_error), offsets) in
-        runs.into_iter().zip(offsets)
+    // Each run's shapes are freed once they are primitives, and handed back
+    // about 32 times in all, so that the primitives do not add to all of
+    // them (the 120 MB curve file: 77 MB of shapes, 155 MB of primitives).
+    let trim_every = runs.len().div_ceil(32).max(1);
+    for (k, ((placed_shapes, run_shapes, run_warnings, run_error), offsets)) in
+        runs.into_iter().zip(offsets).enumerate()
     {
+        if k % trim_every == trim_every - 1 {
+            crate::memory::return_freed_memory("primitives of runs");
+        }
         warnings.extend(run_warnings);
         let mut run_shapes = run_shapes.into_iter();
         for placed in placed_shapes {
