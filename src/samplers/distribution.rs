@@ -600,13 +600,8 @@ mod tests {
     /// search finds.
     #[test]
     fn row_guides_find_the_binary_search_interval() {
-        let mut state = 0x9e37_79b9_7f4a_7c15u64;
-        let mut rnd = || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            (state >> 40) as f32 / (1u64 << 24) as f32
-        };
+        let mut rng = crate::shapes::test_support::TestRng::new(0x9e37_79b9_7f4a_7c15);
+        let mut rnd = || rng.uniform();
         for (nu, nv) in [(1, 1), (7, 5), (300, 3), (70_000, 1)] {
             let function: Vec<f32> = (0..nu * nv)
                 .map(|i| {

@@ -229,6 +229,21 @@ impl<const N: usize> PiecewiseLinear2D<N> {
     /// `index` is in the first slice of the cell, `slice_len` the length of
     /// one slice in `table`. The last parameter is interpolated outermost,
     /// as pbrt-v4 nests it.
+    /// The totals of rows `row` and `row + 1` (the last entries of their
+    /// conditional cdfs), interpolated across slices.
+    fn row_pair_totals(&self, row: usize, slice_size: usize, at: &SliceWeights<N>) -> (f32, f32) {
+        let nx = self.x_size;
+        let row_offset = row * nx + at.slice_offset * slice_size;
+        let r0 = self.lookup(&self.conditional_cdf, row_offset + nx - 1, slice_size, at);
+        let r1 = self.lookup(
+            &self.conditional_cdf,
+            row_offset + 2 * nx - 1,
+            slice_size,
+            at,
+        );
+        (r0, r1)
+    }
+
     fn lookup(&self, table: &[f32], index: usize, slice_len: usize, at: &SliceWeights<N>) -> f32 {
         self.lookup_dims(table, index, slice_len, &at.weights, N)
     }
@@ -280,15 +295,9 @@ impl<const N: usize> PiecewiseLinear2D<N> {
 
         // Within the row pair the marginal density is linear from r0 to r1
         // (the two rows' totals): solve r0 t + (r1 − r0) t²/2 = u.
-        let row_offset = row * nx + at.slice_offset * slice_size;
-        let r0 = self.lookup(&self.conditional_cdf, row_offset + nx - 1, slice_size, &at);
-        let r1 = self.lookup(
-            &self.conditional_cdf,
-            row_offset + 2 * nx - 1,
-            slice_size,
-            &at,
-        );
+        let (r0, r1) = self.row_pair_totals(row, slice_size, &at);
         sample.y = solve_linear_cdf(r0, r1, sample.y);
+        let row_offset = row * nx + at.slice_offset * slice_size;
 
         // The column: the conditional CDF interpolated between the rows.
         sample.x *= (1.0 - sample.y) * r0 + sample.y * r1;
@@ -348,14 +357,7 @@ impl<const N: usize> PiecewiseLinear2D<N> {
         let v1 = self.lookup(&self.conditional_cdf, offset + nx, slice_size, &at);
         sample.x += (1.0 - sample.y) * v0 + sample.y * v1;
 
-        let row_offset = row * nx + at.slice_offset * slice_size;
-        let r0 = self.lookup(&self.conditional_cdf, row_offset + nx - 1, slice_size, &at);
-        let r1 = self.lookup(
-            &self.conditional_cdf,
-            row_offset + 2 * nx - 1,
-            slice_size,
-            &at,
-        );
+        let (r0, r1) = self.row_pair_totals(row, slice_size, &at);
         sample.x /= (1.0 - sample.y) * r0 + sample.y * r1;
 
         // The y component: the marginal CDF up to the row plus the linear
