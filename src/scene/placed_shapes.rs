@@ -97,12 +97,18 @@ pub fn create<'s>(placements: Vec<ShapePlacement>, context: &Context<'s>) -> Vec
                 error: None,
             };
             for placement in run {
-                match place(placement, context, &mut out.storage, &mut out.warnings) {
-                    Ok((placed, shapes)) => {
-                        out.placed.push(placed);
-                        out.shapes.extend(shapes);
-                    }
+                let first_shape = out.shapes.len();
+                match place(
+                    placement,
+                    context,
+                    &mut out.storage,
+                    &mut out.warnings,
+                    &mut out.shapes,
+                ) {
+                    Ok(placed) => out.placed.push(placed),
                     Err(e) => {
+                        // `shapes` holds the placed shapes' only.
+                        out.shapes.truncate(first_shape);
                         out.error = Some(e);
                         break;
                     }
@@ -132,7 +138,8 @@ fn place<'s>(
     context: &Context<'s>,
     storage: &mut ShapeStorage,
     warnings: &mut Vec<Warning>,
-) -> Result<(PlacedShapes<'s>, Vec<Shape>)> {
+    run_shapes: &mut Vec<Shape>,
+) -> Result<PlacedShapes<'s>> {
     let shape = &placement.shape;
     let mut placed = PlacedShapes {
         group: placement.group as usize,
@@ -148,7 +155,7 @@ fn place<'s>(
     placed.alpha = match Alpha::create(shape, context.textures, context.base)? {
         // pbrt-v4 keeps an invisible shape's area light: a light reached
         // by light sampling alone.
-        Alpha::Invisible if shape.area_light.is_none() => return Ok((placed, Vec::new())),
+        Alpha::Invisible if shape.area_light.is_none() => return Ok(placed),
         Alpha::Invisible => {
             placed.invisible = true;
             None
@@ -192,20 +199,23 @@ fn place<'s>(
         displacement_edge_scale: context.scene.options.displacement_edge_scale.unwrap_or(1.0)
             as f32,
     };
-    let shapes = create_shapes(
+    let first_shape = run_shapes.len();
+    create_shapes(
         shape,
         &render_from_object,
         shape.reverse_orientation,
         &shape_context,
         storage,
         warnings,
+        run_shapes,
     )?;
+    let shapes = &run_shapes[first_shape..];
     // The dual hair model's diffracting outer cylinder: the curve is
     // (1 + d_diff) × the fibre's width (issue 5; the BSDF maps the inner
     // 1/(1 + d_diff) of h to the fibre).
     let widening = material.curve_width_scale();
     if widening != 1.0 {
-        storage.scale_curve_widths(&shapes, widening);
+        storage.scale_curve_widths(shapes, widening);
     }
     if let Some(axis) = material.axis_frame() {
         let toward = axis.reference.map(|v| {
@@ -222,7 +232,7 @@ fn place<'s>(
             (None, true) => FibreFrame::Turned(strand_angle(loc.offset, strand)),
             (None, false) => FibreFrame::Transported,
         };
-        storage.set_fibre_frames(&shapes, frame_of);
+        storage.set_fibre_frames(shapes, frame_of);
     }
     placed.area_light = match shape.area_light {
         Some(_) if matches!(material, Material::Interface) => {
@@ -245,7 +255,7 @@ fn place<'s>(
         .params
         .report_unused(|| format!("shape \"{}\"", shape.entity.kind))?;
     placed.shape_count = shapes.len();
-    Ok((placed, shapes))
+    Ok(placed)
 }
 
 /// The index of a shape's material in `BuiltScene::materials`.

@@ -96,29 +96,34 @@ impl ParamSet {
         self.params[..self.own].iter()
     }
 
-    /// The first parameter called `name` (marked used), if any; an error
-    /// when its type is not among `types`.
+    /// The parameter called `name` (marked used), if any: the directive's
+    /// last of that name, else the first attribute's; an error when its
+    /// type is not among `types`.
     pub fn find(&self, name: &str, types: &[ParamType]) -> Result<Option<&Param>> {
-        // A directive may repeat a name: the last one written wins.
-        let own_last = self
-            .params
-            .iter()
-            .enumerate()
-            .filter(|(i, p)| !self.is_attribute(*i) && p.name == name)
-            .last()
-            .or_else(|| {
-                self.params
-                    .iter()
-                    .enumerate()
-                    .find(|(i, p)| self.is_attribute(*i) && p.name == name)
-            });
-        let Some((i, p)) = own_last else {
+        // One pass (a hair file looks up about nine names per curve): the
+        // directive's own parameters come before the attributes, so the
+        // last match among them, else the first after them, is the one.
+        let mut found = None;
+        let mut same_named = 0;
+        for (i, p) in self.params.iter().enumerate() {
+            if p.name != name {
+                continue;
+            }
+            same_named += 1;
+            if !self.is_attribute(i) || found.is_none() {
+                found = Some(i);
+            }
+        }
+        let Some(i) = found else {
             return Ok(None);
         };
+        let p = &self.params[i];
         // Same-named parameters are all accounted for by this lookup.
-        for (j, q) in self.params.iter().enumerate() {
-            if q.name == name && types.contains(&q.ty) {
-                self.mark_used(j);
+        if same_named > 1 {
+            for (j, q) in self.params.iter().enumerate() {
+                if q.name == name && types.contains(&q.ty) {
+                    self.mark_used(j);
+                }
             }
         }
         if !types.contains(&p.ty) {
@@ -184,6 +189,18 @@ impl ParamSet {
         }
     }
 
+    /// [`ParamSet::string`] without the copy (a hair file looks strings
+    /// up once per curve).
+    pub fn string_ref<'a>(&'a self, name: &str, default: &'a str) -> Result<&'a str> {
+        let Some(p) = self.find(name, &[ParamType::String])? else {
+            return Ok(default);
+        };
+        match p.strings() {
+            [s] => Ok(s.as_str()),
+            _ => scene_error(format!("expected one value for \"{name}\""), &p.location),
+        }
+    }
+
     /// A one-valued string parameter and where it is written, for errors
     /// about what it names (a file); `None` when absent.
     pub fn string_at(&self, name: &str) -> Result<Option<(String, Location)>> {
@@ -243,6 +260,18 @@ impl ParamSet {
 
     pub fn point3s(&self, name: &str) -> Result<Vec<DVec3>> {
         self.triples(name, ParamType::Point3)
+    }
+
+    /// [`ParamSet::point3s`] as its coordinates, x y z of each point in
+    /// turn, without the copy (a hair file's curves each have their own).
+    pub fn point3_coordinates(&self, name: &str) -> Result<&[f64]> {
+        Ok(self
+            .find(name, &[ParamType::Point3])?
+            .map_or(&[][..], |p| {
+                let numbers = p.numbers();
+                // Whole points only, as `point3s`.
+                &numbers[..numbers.len() / 3 * 3]
+            }))
     }
 
     pub fn vector3s(&self, name: &str) -> Result<Vec<DVec3>> {
@@ -338,6 +367,60 @@ mod tests {
         assert_eq!(p.int("n", 0).unwrap(), 3);
         assert_eq!(p.point3s("P").unwrap().len(), 2);
         p.report_unused(|| "sphere".into()).unwrap();
+    }
+
+    /// A directive's own parameter overrides an attribute's; of
+    /// several of one name, the directive's last and the attributes'
+    /// first (the latest `Attribute`) win; every one of the name and type
+    /// asked for counts as used.
+    #[test]
+    fn the_last_own_then_the_latest_attribute_wins() {
+        let parameters = |text: &str| {
+            let d = Parser::from_text("<a>", text).next().unwrap().unwrap();
+            let (Directive::Attribute(e) | Directive::Shape(e)) = d.directive else {
+                panic!()
+            };
+            e.params
+        };
+        // In the order the builder passes them: the latest `Attribute` last.
+        let mut older = parameters("Attribute \"shape\" \"float w\" 5 \"float v\" 7");
+        older.extend(parameters("Attribute \"shape\" \"float w\" 6 \"float v\" 8"));
+        let own = parameters("Shape \"curve\" \"float w\" 1 \"float w\" 2 \"float u\" 3");
+        let set = ParamSet::new(own.clone(), &older);
+        assert_eq!(set.float("w", 0.0).unwrap(), 2.0);
+        assert_eq!(set.float("v", 0.0).unwrap(), 8.0);
+        assert_eq!(set.float("x", 9.0).unwrap(), 9.0);
+        let e = set.report_unused(|| "curve".into()).unwrap_err().to_string();
+        assert!(e.contains("\"float u\": unused"), "{e}");
+        set.float("u", 0.0).unwrap();
+        set.report_unused(|| "curve".into()).unwrap();
+        // The losing `w`s and `v`s too (of the asked-for type).
+        assert!((0..7).all(|i| set.is_used(i)));
+    }
+
+    /// A same-named parameter of another type is an error at the one
+    /// that wins, and is not counted as used when it loses.
+    #[test]
+    fn a_wrong_type_is_reported_where_it_is_written() {
+        let p = params("Shape \"curve\" \"float type\" 1\n \"string type\" \"flat\"");
+        assert_eq!(p.string_ref("type", "cylinder").unwrap(), "flat");
+        let e = p.report_unused(|| "curve".into()).unwrap_err().to_string();
+        assert!(e.contains("\"float type\": unused") && e.contains("<t>:1:15"), "{e}");
+        let p = params("Shape \"curve\" \"string type\" \"flat\"\n \"float type\" 1");
+        let e = p.string_ref("type", "cylinder").unwrap_err().to_string();
+        assert!(e.contains("wrong type") && e.contains("<t>:2:2"), "{e}");
+        let p = params("Shape \"curve\" \"string type\" [\"flat\" \"ribbon\"]");
+        let e = p.string_ref("type", "cylinder").unwrap_err().to_string();
+        assert!(e.contains("expected one value for \"type\""), "{e}");
+        assert_eq!(params("Shape \"curve\"").string_ref("type", "cylinder").unwrap(), "cylinder");
+    }
+
+    #[test]
+    fn point_coordinates_are_whole_points_in_order() {
+        let p = params("Shape \"curve\" \"point3 P\" [1 2 3 4 5 6]");
+        assert_eq!(p.point3_coordinates("P").unwrap(), &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0]);
+        assert!(p.point3_coordinates("Q").unwrap().is_empty());
+        p.report_unused(|| "curve".into()).unwrap();
     }
 
     #[test]

@@ -502,7 +502,10 @@ pub struct ShapeContext<'a> {
 /// `ReverseOrientation`. Meshes are transformed now and appended to
 /// `storage`; `plymesh` and `cyhair` file names resolve against
 /// `context.base_directory`. Problems pbrt-v4 only warns about (PLY faces
-/// that are neither triangles nor quads) are added to `warnings`.
+/// that are neither triangles nor quads) are added to `warnings`. The
+/// shapes made are appended to `shapes` (a run's one array: no array per
+/// `Shape` directive, of which a hair file has hundreds of thousands); on
+/// an error, some may have been.
 pub fn create_shapes(
     shape: &scene_description::Shape,
     render_from_object: &Transform,
@@ -510,26 +513,28 @@ pub fn create_shapes(
     context: &ShapeContext,
     storage: &mut ShapeStorage,
     warnings: &mut Vec<Warning>,
-) -> Result<Vec<Shape>> {
+    shapes: &mut Vec<Shape>,
+) -> Result<()> {
     let params = &shape.entity.params;
     let location = &shape.entity.location.0;
     let kind = shape.entity.kind.as_str();
-    let shapes = match kind {
-        "sphere" => vec![Shape::Sphere(Box::new(Sphere::from_parameters(
+    let first_shape = shapes.len();
+    match kind {
+        "sphere" => shapes.push(Shape::Sphere(Box::new(Sphere::from_parameters(
             params,
             render_from_object,
             reverse_orientation,
-        )?))],
-        "disk" => vec![Shape::Disk(Box::new(Disk::from_parameters(
+        )?))),
+        "disk" => shapes.push(Shape::Disk(Box::new(Disk::from_parameters(
             params,
             render_from_object,
             reverse_orientation,
-        )?))],
-        "cylinder" => vec![Shape::Cylinder(Box::new(Cylinder::from_parameters(
+        )?))),
+        "cylinder" => shapes.push(Shape::Cylinder(Box::new(Cylinder::from_parameters(
             params,
             render_from_object,
             reverse_orientation,
-        )?))],
+        )?))),
         "trianglemesh" => {
             let mesh = TriangleMesh::from_parameters(
                 params,
@@ -537,7 +542,7 @@ pub fn create_shapes(
                 render_from_object,
                 reverse_orientation,
             )?;
-            push_triangle_mesh(storage, mesh)
+            push_triangle_mesh(storage, mesh, shapes)
         }
         "bilinearmesh" => {
             let mesh = BilinearPatchMesh::from_parameters(
@@ -546,7 +551,7 @@ pub fn create_shapes(
                 render_from_object,
                 reverse_orientation,
             )?;
-            push_bilinear_mesh(storage, mesh)
+            push_bilinear_mesh(storage, mesh, shapes)
         }
         "plymesh" => {
             let (filename, filename_at) = params
@@ -585,17 +590,15 @@ pub fn create_shapes(
                 )
                 .map_err(|e| SceneError::new(format!("{}: {e}", path.display()), location))?;
                 let mesh = TriangleMesh::new(render_from_object, reverse_orientation, data);
-                push_triangle_mesh(storage, mesh)
+                push_triangle_mesh(storage, mesh, shapes)
             } else {
                 let meshes = ply.into_meshes(render_from_object, reverse_orientation);
-                let mut shapes = Vec::new();
                 if let Some(mesh) = meshes.triangles {
-                    shapes.extend(push_triangle_mesh(storage, mesh));
+                    push_triangle_mesh(storage, mesh, shapes);
                 }
                 if let Some(mesh) = meshes.quads {
-                    shapes.extend(push_bilinear_mesh(storage, mesh));
+                    push_bilinear_mesh(storage, mesh, shapes);
                 }
-                shapes
             }
         }
         "curve" | "bcurve" | "cyhair" => {
@@ -619,9 +622,7 @@ pub fn create_shapes(
                     &mut storage.curve_pieces,
                 )?;
             }
-            (first..storage.curve_pieces.len() as u32)
-                .map(Shape::Curve)
-                .collect()
+            shapes.extend((first..storage.curve_pieces.len() as u32).map(Shape::Curve));
         }
         "loopsubdiv" => {
             let mesh = loop_subdiv::from_parameters(
@@ -630,35 +631,35 @@ pub fn create_shapes(
                 render_from_object,
                 reverse_orientation,
             )?;
-            push_triangle_mesh(storage, mesh)
+            push_triangle_mesh(storage, mesh, shapes)
         }
         _ => return scene_error(format!("\"{kind}\": unknown shape type"), location),
     };
-    if shapes.is_empty() {
+    if shapes.len() == first_shape {
         return scene_error(
             format!("{kind}: unable to create shape (it has no faces)"),
             location,
         );
     }
-    Ok(shapes)
+    Ok(())
 }
 
-fn push_triangle_mesh(storage: &mut ShapeStorage, mesh: TriangleMesh) -> Vec<Shape> {
+fn push_triangle_mesh(storage: &mut ShapeStorage, mesh: TriangleMesh, shapes: &mut Vec<Shape>) {
     let mesh_index = storage.triangle_meshes.len() as u32;
     let count = mesh.triangle_count() as u32;
     storage.triangle_meshes.push(mesh);
-    (0..count)
-        .map(|index| Shape::Triangle(Triangle::new(mesh_index, index)))
-        .collect()
+    shapes.extend((0..count).map(|index| Shape::Triangle(Triangle::new(mesh_index, index))));
 }
 
-fn push_bilinear_mesh(storage: &mut ShapeStorage, mesh: BilinearPatchMesh) -> Vec<Shape> {
+fn push_bilinear_mesh(
+    storage: &mut ShapeStorage,
+    mesh: BilinearPatchMesh,
+    shapes: &mut Vec<Shape>,
+) {
     let mesh_index = storage.bilinear_meshes.len() as u32;
     let count = mesh.patch_count() as u32;
     storage.bilinear_meshes.push(mesh);
-    (0..count)
-        .map(|index| Shape::BilinearPatch(BilinearPatch::new(mesh_index, index)))
-        .collect()
+    shapes.extend((0..count).map(|index| Shape::BilinearPatch(BilinearPatch::new(mesh_index, index))));
 }
 
 #[cfg(test)]
@@ -694,16 +695,16 @@ mod tests {
         };
         for shape in &loaded.scene.shapes {
             let transform = loaded.scene.transform(shape.world_from_object).start;
-            match create_shapes(
+            if let Err(e) = create_shapes(
                 shape,
                 &transform,
                 shape.reverse_orientation,
                 &context,
                 &mut storage,
                 &mut warnings,
+                &mut all,
             ) {
-                Ok(mut shapes) => all.append(&mut shapes),
-                Err(e) => return (Err(e), storage, warnings),
+                return (Err(e), storage, warnings);
             }
         }
         (Ok(all), storage, warnings)

@@ -509,10 +509,12 @@ pub fn create_curves(
 ) -> Result<()> {
     let p = &shape.entity.params;
     let loc = &shape.entity.location.0;
-    let cps = p.point3s("P")?;
-    let basis = p.string("basis", "bezier")?;
+    // Borrowed, not copied: a hair file has hundreds of thousands of
+    // curves, each with its own points.
+    let coordinates = p.point3_coordinates("P")?;
+    let basis = p.string_ref("basis", "bezier")?;
     let degree = p.int("degree", 3)?;
-    let kind = curve_type(&p.string("type", "flat")?, loc)?;
+    let kind = curve_type(p.string_ref("type", "flat")?, loc)?;
     let width = p.float("width", 1.0)?;
     let width0 = p.float("width0", width)? as f32;
     let width1 = p.float("width1", width)? as f32;
@@ -525,8 +527,9 @@ pub fn create_curves(
         );
     }
     let degree = degree as usize;
-    let n = cps.len();
-    let segments_count = match basis.as_str() {
+    let n = coordinates.len() / 3;
+    let cps = |i: usize| DVec3::from_slice(&coordinates[3 * i..3 * i + 3]);
+    let segments_count = match basis {
         "bezier" => {
             if n < degree + 1 || (n - 1) % degree != 0 {
                 return scene_error(
@@ -570,18 +573,18 @@ pub fn create_curves(
     let flip_normal = reverse_orientation ^ m.swaps_handedness();
     let to_render = |q: DVec3| m.point(q).as_vec3();
     for seg in 0..segments_count {
-        let bez: [DVec3; 4] = match (basis.as_str(), degree) {
+        let bez: [DVec3; 4] = match (basis, degree) {
             ("bezier", 3) => [
-                cps[3 * seg],
-                cps[3 * seg + 1],
-                cps[3 * seg + 2],
-                cps[3 * seg + 3],
+                cps(3 * seg),
+                cps(3 * seg + 1),
+                cps(3 * seg + 2),
+                cps(3 * seg + 3),
             ],
             ("bezier", _) => {
-                elevate_quadratic_bezier([cps[2 * seg], cps[2 * seg + 1], cps[2 * seg + 2]])
+                elevate_quadratic_bezier([cps(2 * seg), cps(2 * seg + 1), cps(2 * seg + 2)])
             }
-            (_, 3) => cubic_bspline_to_bezier([cps[seg], cps[seg + 1], cps[seg + 2], cps[seg + 3]]),
-            _ => quadratic_bspline_to_bezier([cps[seg], cps[seg + 1], cps[seg + 2]]),
+            (_, 3) => cubic_bspline_to_bezier([cps(seg), cps(seg + 1), cps(seg + 2), cps(seg + 3)]),
+            _ => quadratic_bspline_to_bezier([cps(seg), cps(seg + 1), cps(seg + 2)]),
         };
         let cp = bez.map(to_render);
         let w = segment_widths(width0, width1, seg, segments_count).map(|w| w * width_scale);
