@@ -14,7 +14,7 @@ use crate::math::Transform;
 use crate::media::MediumInterface;
 use crate::scene_description::{Entity, MaterialRef, SceneDescription};
 use crate::shapes::curve::frame::{strand_angle, FibreFrame};
-use crate::shapes::{create_shapes, Shape, ShapeContext, ShapeStorage};
+use crate::shapes::{create_shapes, curve, Shape, ShapeContext, ShapeStorage};
 use crate::textures::{FloatTexture, NamedTextures};
 use pbrt_parser::{Location as FileLoc, Warning};
 use rayon::prelude::*;
@@ -96,6 +96,7 @@ pub fn create<'s>(placements: Vec<ShapePlacement>, context: &Context<'s>) -> Vec
                 warnings: Vec::new(),
                 error: None,
             };
+            reserve_for_curves(&run, &mut out);
             for placement in run {
                 let first_shape = out.shapes.len();
                 match place(
@@ -131,6 +132,25 @@ pub fn create<'s>(placements: Vec<ShapePlacement>, context: &Context<'s>) -> Vec
     // append's peak, 170 → 122 MB in hair-eumel-2-256).
     crate::memory::return_freed_memory("shapes made");
     runs
+}
+
+/// Reserves the run's arrays for the curves of `run`, each piece a
+/// shape: grown instead, a doubling at a time, they were copied about once
+/// more and their pages touched anew after each run's trim (a tenth of
+/// the 120 MB curve file's shapes phase).
+fn reserve_for_curves(run: &[ShapePlacement], out: &mut Run) {
+    let (mut segments, mut pieces) = (0usize, 0usize);
+    for placement in run {
+        if matches!(placement.shape.entity.kind.as_str(), "curve" | "bcurve") {
+            let (s, p) = curve::expected_counts(&placement.shape.entity.params);
+            segments = segments.saturating_add(s);
+            pieces = pieces.saturating_add(p);
+        }
+    }
+    // Only a hint: where it cannot be had, the arrays grow as they would.
+    let _ = out.storage.curve_segments.try_reserve_exact(segments);
+    let _ = out.storage.curve_pieces.try_reserve_exact(pieces);
+    let _ = out.shapes.try_reserve_exact(pieces);
 }
 
 fn place<'s>(

@@ -35,9 +35,9 @@ pub mod splines;
 use crate::error::{scene_error, Result};
 use crate::interaction::SurfaceInteraction;
 use crate::math::{Bounds3, Ray, Transform};
-use crate::scene_description;
+use crate::scene_description::{self, ParamSet};
 use glam::{DVec3, Vec2, Vec3};
-use pbrt_parser::Location;
+use pbrt_parser::{Location, Values};
 use splines::{
     blossom_piece, cubic_bspline_to_bezier, elevate_quadratic_bezier, evaluate_bezier,
     quadratic_bspline_to_bezier, split_in_half,
@@ -621,6 +621,43 @@ pub fn create_curves(
     Ok(())
 }
 
+/// How many segments and pieces [`create_curves`] makes of a curve with
+/// parameters `params`, read without marking them used: what a run of
+/// placements reserves for its curves (a hair file's runs otherwise grow
+/// their arrays a doubling at a time). Exact for a well-formed curve with
+/// no repeated or attribute parameters; (0, 0) where it would fail.
+pub fn expected_counts(params: &ParamSet) -> (usize, usize) {
+    let (mut points, mut basis, mut degree, mut split_depth) = (0, "bezier", 3, 3);
+    let first_number = |values: &Values| match values {
+        Values::Numbers(numbers) => numbers.first().map(|&x| x as i32),
+        _ => None,
+    };
+    // One pass, each name matched once (`ParamSet::find` would scan the
+    // parameters per name); a repeated name is rare, and only a hint.
+    for param in params.iter() {
+        match (param.name.as_str(), &param.values) {
+            ("P", Values::Numbers(numbers)) => points = numbers.len() / 3,
+            ("basis", Values::Strings(strings)) => {
+                basis = strings.first().map_or("", |s| s.as_str())
+            }
+            ("degree", values) => degree = first_number(values).unwrap_or(0),
+            ("splitdepth", values) => split_depth = first_number(values).unwrap_or(0),
+            _ => {}
+        }
+    }
+    let degree = match degree {
+        2 => 2,
+        3 => 3,
+        _ => return (0, 0),
+    };
+    let segments = match basis {
+        "bezier" if points > degree && (points - 1) % degree == 0 => (points - 1) / degree,
+        "bspline" if points > degree => points - degree,
+        _ => 0,
+    };
+    (segments, segments << split_depth.clamp(0, 10))
+}
+
 /// The object-space widths at the ends of segment `seg` of a curve of
 /// `count` segments whose `width0` and `width1` are given: linear in the
 /// segment index, as pbrt-v4's `Curve::Create` (which writes the lerp as
@@ -724,7 +761,7 @@ fn split_into_pieces(
         let tolerance = 0.1 * w.max(1e-3 * (cp[3] - cp[0]).length());
         let excess = deviation(&cp) / tolerance;
         let refine_depth = if excess > 1.0 {
-            ((0.5 * excess.log2()).ceil() as u32).min(MAX_DEPTH.saturating_sub(split_depth))
+            halvings_for_excess(excess).min(MAX_DEPTH.saturating_sub(split_depth))
         } else {
             0
         };
@@ -737,6 +774,27 @@ fn split_into_pieces(
             [segment.width_at(u0), segment.width_at(u1)],
         ));
     }
+}
+
+/// ⌈log₂(excess) / 2⌉ as `(0.5 * excess.log2()).ceil() as u32` computes
+/// it, for `excess` > 1 (each halving divides a piece's deviation by about
+/// 4), mostly from the float's exponent: for the random curves of a test
+/// file, where most pieces need halvings, `log2f` and `ceilf` were a tenth
+/// of making the curves. With excess = 2^e·(1 + f), log₂ excess lies in
+/// [e, e + 1), so the answer is e/2 + 1 (integer division) unless e is even
+/// and log₂ excess rounds to e itself: only for f near 0, where `log2f`
+/// decides as before.
+fn halvings_for_excess(excess: f32) -> u32 {
+    let bits = excess.to_bits();
+    let exponent = (bits >> 23) & 0xff;
+    let fraction = bits & 0x7f_ffff;
+    // f ≥ 2⁻¹⁰: log₂(1 + f) ≥ 0.0014, far above log2f's error at any
+    // exponent (an ulp of 127 is 2⁻¹⁷); the biased exponent 255 is inf.
+    let near_a_power_of_four = exponent % 2 == 1 && fraction < 1 << 13;
+    if near_a_power_of_four || exponent >= 255 || exponent < 127 {
+        return (0.5 * excess.log2()).ceil() as u32;
+    }
+    (exponent - 127) / 2 + 1
 }
 
 /// pbrt-v4's limit on the halvings of a segment.
@@ -760,6 +818,63 @@ fn deviation(cp: &[Vec3; 4]) -> f32 {
 mod tests {
     use super::*;
     use glam::DVec2;
+
+    /// The counts a run reserves are those `create_curves` makes.
+    #[test]
+    fn expected_counts_are_the_counts_made() {
+        let cases = [
+            (r#""point3 P" [0 0 0 1 0 0 2 0 0 3 0 0]"#, (1, 8)),
+            (r#""point3 P" [0 0 0 1 0 0 2 0 0 3 0 0 4 0 0 5 0 0 6 0 0] "integer splitdepth" 1"#, (2, 4)),
+            (r#""point3 P" [0 0 0 1 0 0 2 0 0 3 0 0 4 0 0] "string basis" "bspline""#, (2, 16)),
+            (r#""point3 P" [0 0 0 1 0 0 2 0 0 3 1 0 4 0 0] "integer degree" 2 "integer splitdepth" 0"#, (2, 2)),
+            (r#""point3 P" [0 0 0 1 0 0 2 0 0 3 0 0] "integer splitdepth" 12"#, (1, 1024)),
+        ];
+        for (params, expected) in cases {
+            let text = format!("WorldBegin\nShape \"curve\" {params}\n");
+            let loaded = crate::scene::load_text(std::path::Path::new("c.pbrt"), &text).unwrap();
+            let shape = &loaded.scene.shapes[0];
+            assert_eq!(expected_counts(&shape.entity.params), expected, "{params}");
+            let (mut segments, mut pieces) = (Vec::new(), Vec::new());
+            create_curves(shape, &Transform::IDENTITY, false, &mut segments, &mut pieces).unwrap();
+            assert_eq!((segments.len(), pieces.len()), expected, "{params}");
+        }
+        // What `create_curves` refuses reserves nothing.
+        let text = "WorldBegin\nShape \"curve\" \"point3 P\" [0 0 0 1 0 0] \"integer degree\" 4\n";
+        let loaded = crate::scene::load_text(std::path::Path::new("c.pbrt"), text).unwrap();
+        assert_eq!(expected_counts(&loaded.scene.shapes[0].entity.params), (0, 0));
+    }
+
+    /// The halvings from the exponent agree with pbrt's ⌈log₂(x) / 2⌉
+    /// rounded as `log2f` rounds it, at and around every power of two and
+    /// across the range, up to infinity.
+    #[test]
+    fn halvings_match_the_rounded_logarithm() {
+        let reference = |x: f32| (0.5 * x.log2()).ceil() as u32;
+        let mut checked = 0;
+        let mut check = |x: f32| {
+            if x > 1.0 {
+                assert_eq!(halvings_for_excess(x), reference(x), "{x:e}");
+                checked += 1;
+            }
+        };
+        for e in 0..128 {
+            let power = 2f32.powi(e).to_bits();
+            for step in 0..20_000u32 {
+                check(f32::from_bits(power + step));
+                check(f32::from_bits(power - step));
+            }
+        }
+        for bits in (1f32.to_bits()..f32::MAX.to_bits()).step_by(997) {
+            check(f32::from_bits(bits));
+        }
+        check(f32::MAX);
+        check(f32::INFINITY);
+        assert!(checked > 5_000_000);
+        assert_eq!(halvings_for_excess(f32::INFINITY), u32::MAX);
+        assert_eq!(halvings_for_excess(4.0), 1);
+        assert_eq!(halvings_for_excess(4.5), 2);
+        assert_eq!(halvings_for_excess(16.0), 2);
+    }
 
     /// The band test rejects no control polygon whose curve (densely
     /// sampled) comes within the half width of the ray, including grazing
