@@ -12,8 +12,9 @@ use crate::error::{scene_error, Error, Result};
 use crate::materials::Material;
 use crate::math::Transform;
 use crate::media::MediumInterface;
-use crate::scene_description::{Entity, MaterialRef, SceneDescription};
+use crate::scene_description::{Entity, MaterialRef, SceneDescription, TransformId};
 use crate::shapes::curve::frame::{strand_angle, FibreFrame};
+use crate::shapes::curve::CurveTransform;
 use crate::shapes::{create_shapes, curve, Shape, ShapeContext, ShapeStorage};
 use crate::textures::{FloatTexture, NamedTextures};
 use pbrt_parser::{Location as FileLoc, Warning};
@@ -97,6 +98,7 @@ pub fn create<'s>(placements: Vec<ShapePlacement>, context: &Context<'s>) -> Vec
                 error: None,
             };
             reserve_for_curves(&run, &mut out);
+            let mut last_transform = LastTransform::default();
             for placement in run {
                 let first_shape = out.shapes.len();
                 match place(
@@ -105,6 +107,7 @@ pub fn create<'s>(placements: Vec<ShapePlacement>, context: &Context<'s>) -> Vec
                     &mut out.storage,
                     &mut out.warnings,
                     &mut out.shapes,
+                    &mut last_transform,
                 ) {
                     Ok(placed) => out.placed.push(placed),
                     Err(e) => {
@@ -134,6 +137,57 @@ pub fn create<'s>(placements: Vec<ShapePlacement>, context: &Context<'s>) -> Vec
     runs
 }
 
+/// A run's last placement's render-from-object and its curve facts: the
+/// next placement most often has the same (a hair file's curves all
+/// have), and two matrix products, two determinants and a cube root per
+/// curve were a twentieth of making them.
+#[derive(Default)]
+struct LastTransform {
+    /// (in its own object space, its transform, its flattened instance).
+    key: Option<(bool, TransformId, Option<u32>)>,
+    render_from_object: Transform,
+    curve_transform: Option<CurveTransform>,
+}
+
+impl LastTransform {
+    /// The placement's render-from-object and curve facts.
+    fn of(
+        &mut self,
+        placement: &ShapePlacement,
+        context: &Context,
+    ) -> (&Transform, CurveTransform) {
+        let key = (
+            placement.in_object_space,
+            placement.shape.world_from_object,
+            placement.flattened_instance,
+        );
+        let curve_transform = match self.curve_transform {
+            Some(known) if self.key == Some(key) => known,
+            _ => {
+                // A moving shape is made in its own space, which its
+                // instance moves (`instancing`).
+                let mut render_from_object = if placement.in_object_space {
+                    Transform::IDENTITY
+                } else {
+                    context
+                        .render_from_world
+                        .then(&context.scene.transform(placement.shape.world_from_object).start)
+                };
+                if let Some(instance) = placement.flattened_instance {
+                    render_from_object =
+                        context.flattened[instance as usize].then(&render_from_object);
+                }
+                let facts = CurveTransform::of(&render_from_object);
+                self.key = Some(key);
+                self.render_from_object = render_from_object;
+                self.curve_transform = Some(facts);
+                facts
+            }
+        };
+        (&self.render_from_object, curve_transform)
+    }
+}
+
 /// Reserves the run's arrays for the curves of `run`, each piece a
 /// shape: grown instead, a doubling at a time, they were copied about once
 /// more and their pages touched anew after each run's trim (a tenth of
@@ -159,6 +213,7 @@ fn place<'s>(
     storage: &mut ShapeStorage,
     warnings: &mut Vec<Warning>,
     run_shapes: &mut Vec<Shape>,
+    transforms: &mut LastTransform,
 ) -> Result<PlacedShapes<'s>> {
     let shape = &placement.shape;
     let mut placed = PlacedShapes {
@@ -186,18 +241,7 @@ fn place<'s>(
     let inside = context.media.get(shape.inside_medium.as_str()).copied();
     let outside = context.media.get(shape.outside_medium.as_str()).copied();
     placed.medium_interface = (inside != outside).then_some(MediumInterface { inside, outside });
-    // A moving shape is made in its own space, which its instance moves
-    // (`instancing`).
-    let mut render_from_object = if placement.in_object_space {
-        Transform::IDENTITY
-    } else {
-        context
-            .render_from_world
-            .then(&context.scene.transform(shape.world_from_object).start)
-    };
-    if let Some(instance) = placement.flattened_instance {
-        render_from_object = context.flattened[instance as usize].then(&render_from_object);
-    }
+    let (render_from_object, curve_transform) = transforms.of(&placement, context);
     placed.material = material_index(&shape.material, context.named_materials, loc)?;
     let material = &context.materials[placed.material as usize];
     // The ring is an outer cylinder around a fibre: on a surface the
@@ -218,11 +262,12 @@ fn place<'s>(
         textures: context.textures,
         displacement_edge_scale: context.scene.options.displacement_edge_scale.unwrap_or(1.0)
             as f32,
+        curve_transform: Some(curve_transform),
     };
     let first_shape = run_shapes.len();
     create_shapes(
         shape,
-        &render_from_object,
+        render_from_object,
         shape.reverse_orientation,
         &shape_context,
         storage,

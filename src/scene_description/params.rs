@@ -143,6 +143,23 @@ impl ParamSet {
         Ok(Some(p))
     }
 
+    /// Whether a parameter (the directive's or an attribute's) is called
+    /// each of `names`, found in one pass and marked used by none: a
+    /// lookup of an absent name ([`ParamSet::find`]) scans every
+    /// parameter, and each of a hair file's curves has lookups of nine
+    /// names, most of them absent.
+    pub fn has_each<const N: usize>(&self, names: [&str; N]) -> [bool; N] {
+        let mut present = [false; N];
+        for p in self.params.iter() {
+            for (k, name) in names.iter().enumerate() {
+                if p.name == *name {
+                    present[k] = true;
+                }
+            }
+        }
+        present
+    }
+
     fn one_number(&self, name: &str, ty: ParamType) -> Result<Option<(f64, &Location)>> {
         let Some(p) = self.find(name, &[ty])? else {
             return Ok(None);
@@ -413,6 +430,23 @@ mod tests {
         let e = p.string_ref("type", "cylinder").unwrap_err().to_string();
         assert!(e.contains("expected one value for \"type\""), "{e}");
         assert_eq!(params("Shape \"curve\"").string_ref("type", "cylinder").unwrap(), "cylinder");
+    }
+
+    #[test]
+    fn has_each_sees_own_and_attribute_parameters_and_marks_none() {
+        let attributes = vec![params("Shape \"curve\" \"float width1\" 2")
+            .iter()
+            .next()
+            .unwrap()
+            .clone()];
+        let own = params("Shape \"curve\" \"float width0\" 1 \"string type\" \"flat\"");
+        let set = ParamSet::new(own.iter().cloned().collect(), &attributes);
+        assert_eq!(
+            set.has_each(["width", "width0", "width1", "type", "N"]),
+            [false, true, true, true, false]
+        );
+        let e = set.report_unused(|| "curve".into()).unwrap_err().to_string();
+        assert!(e.contains("\"float width0\": unused"), "{e}");
     }
 
     #[test]

@@ -493,6 +493,10 @@ pub struct ShapeContext<'a> {
     /// or `--displacement-edge-scale`, default 1): multiplies every
     /// displaced `plymesh`'s `edgelength`.
     pub displacement_edge_scale: f32,
+    /// The curve facts of `create_shapes`' render-from-object where the
+    /// caller has them (a run of placements sharing a transform computes
+    /// them once); `None`: computed for the shape.
+    pub curve_transform: Option<curve::CurveTransform>,
 }
 
 /// The shapes a `Shape` directive makes, in render space.
@@ -614,9 +618,13 @@ pub fn create_shapes(
                     &mut storage.curve_pieces,
                 )?;
             } else {
+                let curve_transform = context
+                    .curve_transform
+                    .unwrap_or_else(|| curve::CurveTransform::of(render_from_object));
                 curve::create_curves(
                     shape,
                     render_from_object,
+                    &curve_transform,
                     reverse_orientation,
                     &mut storage.curve_segments,
                     &mut storage.curve_pieces,
@@ -692,6 +700,7 @@ mod tests {
             base_directory: directory,
             textures: &textures,
             displacement_edge_scale,
+            curve_transform: None,
         };
         for shape in &loaded.scene.shapes {
             let transform = loaded.scene.transform(shape.world_from_object).start;

@@ -503,6 +503,7 @@ impl CurveHit {
 pub fn create_curves(
     shape: &scene_description::Shape,
     render_from_object: &Transform,
+    curve_transform: &CurveTransform,
     reverse_orientation: bool,
     segments: &mut Vec<CurveSegment>,
     pieces: &mut Vec<CurvePiece>,
@@ -511,15 +512,47 @@ pub fn create_curves(
     let loc = &shape.entity.location.0;
     // Borrowed, not copied: a hair file has hundreds of thousands of
     // curves, each with its own points.
+    // The optional parameters a curve gives, found in one pass: most
+    // curves give one or two, and a lookup of an absent one scans every
+    // parameter. (Absent, a lookup would give the default and mark
+    // nothing; present, it is made as before, in the same order, so
+    // errors and used marks stay the same.)
+    let [has_basis, has_degree, has_width, has_width0, has_width1, has_split_depth, has_normals] =
+        p.has_each(["basis", "degree", "width", "width0", "width1", "splitdepth", "N"]);
     let coordinates = p.point3_coordinates("P")?;
-    let basis = p.string_ref("basis", "bezier")?;
-    let degree = p.int("degree", 3)?;
+    let basis = if has_basis {
+        p.string_ref("basis", "bezier")?
+    } else {
+        "bezier"
+    };
+    let degree = if has_degree { p.int("degree", 3)? } else { 3 };
     let kind = curve_type(p.string_ref("type", "flat")?, loc)?;
-    let width = p.float("width", 1.0)?;
-    let width0 = p.float("width0", width)? as f32;
-    let width1 = p.float("width1", width)? as f32;
-    let split_depth = p.int("splitdepth", 3)?.clamp(0, 10) as u32;
-    let normals = p.normals("N")?;
+    let width = if has_width {
+        p.float("width", 1.0)?
+    } else {
+        1.0
+    };
+    let width0 = if has_width0 {
+        p.float("width0", width)?
+    } else {
+        width
+    } as f32;
+    let width1 = if has_width1 {
+        p.float("width1", width)?
+    } else {
+        width
+    } as f32;
+    let split_depth = if has_split_depth {
+        p.int("splitdepth", 3)?
+    } else {
+        3
+    }
+    .clamp(0, 10) as u32;
+    let normals = if has_normals {
+        p.normals("N")?
+    } else {
+        Vec::new()
+    };
     if degree != 2 && degree != 3 {
         return scene_error(
             format!("curve \"degree\" must be 2 or 3, not {degree}"),
@@ -569,8 +602,8 @@ pub fn create_curves(
     }
     let m = render_from_object;
     // Widths are in object space: scale them by the transform's size.
-    let width_scale = width_scale(m);
-    let flip_normal = reverse_orientation ^ m.swaps_handedness();
+    let width_scale = curve_transform.width_scale;
+    let flip_normal = reverse_orientation ^ curve_transform.swaps_handedness;
     let to_render = |q: DVec3| m.point(q).as_vec3();
     for seg in 0..segments_count {
         let bez: [DVec3; 4] = match (basis, degree) {
@@ -683,6 +716,27 @@ pub(crate) fn curve_type(name: &str, loc: &Location) -> Result<CurveType> {
             format!("curve type \"{other}\" unknown (expected flat, cylinder or ribbon)"),
             loc,
         ),
+    }
+}
+
+/// What the curves under one render-from-object share: computed once per
+/// transform by a run of placements (a hair file's hundreds of thousands
+/// of curves mostly share one; two determinants and a cube root per curve
+/// were a twentieth of making them).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CurveTransform {
+    /// [`width_scale`] of the transform.
+    pub width_scale: f32,
+    /// [`Transform::swaps_handedness`] of it.
+    pub swaps_handedness: bool,
+}
+
+impl CurveTransform {
+    pub fn of(render_from_object: &Transform) -> Self {
+        CurveTransform {
+            width_scale: width_scale(render_from_object),
+            swaps_handedness: render_from_object.swaps_handedness(),
+        }
     }
 }
 
@@ -835,7 +889,9 @@ mod tests {
             let shape = &loaded.scene.shapes[0];
             assert_eq!(expected_counts(&shape.entity.params), expected, "{params}");
             let (mut segments, mut pieces) = (Vec::new(), Vec::new());
-            create_curves(shape, &Transform::IDENTITY, false, &mut segments, &mut pieces).unwrap();
+            let identity = Transform::IDENTITY;
+            let facts = CurveTransform::of(&identity);
+            create_curves(shape, &identity, &facts, false, &mut segments, &mut pieces).unwrap();
             assert_eq!((segments.len(), pieces.len()), expected, "{params}");
         }
         // What `create_curves` refuses reserves nothing.
