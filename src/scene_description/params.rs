@@ -282,13 +282,11 @@ impl ParamSet {
     /// [`ParamSet::point3s`] as its coordinates, x y z of each point in
     /// turn, without the copy (a hair file's curves each have their own).
     pub fn point3_coordinates(&self, name: &str) -> Result<&[f64]> {
-        Ok(self
-            .find(name, &[ParamType::Point3])?
-            .map_or(&[][..], |p| {
-                let numbers = p.numbers();
-                // Whole points only, as `point3s`.
-                &numbers[..numbers.len() / 3 * 3]
-            }))
+        Ok(self.find(name, &[ParamType::Point3])?.map_or(&[][..], |p| {
+            let numbers = p.numbers();
+            // Whole points only, as `point3s`.
+            &numbers[..numbers.len() / 3 * 3]
+        }))
     }
 
     pub fn vector3s(&self, name: &str) -> Result<Vec<DVec3>> {
@@ -401,13 +399,18 @@ mod tests {
         };
         // In the order the builder passes them: the latest `Attribute` last.
         let mut older = parameters("Attribute \"shape\" \"float w\" 5 \"float v\" 7");
-        older.extend(parameters("Attribute \"shape\" \"float w\" 6 \"float v\" 8"));
+        older.extend(parameters(
+            "Attribute \"shape\" \"float w\" 6 \"float v\" 8",
+        ));
         let own = parameters("Shape \"curve\" \"float w\" 1 \"float w\" 2 \"float u\" 3");
         let set = ParamSet::new(own.clone(), &older);
         assert_eq!(set.float("w", 0.0).unwrap(), 2.0);
         assert_eq!(set.float("v", 0.0).unwrap(), 8.0);
         assert_eq!(set.float("x", 9.0).unwrap(), 9.0);
-        let e = set.report_unused(|| "curve".into()).unwrap_err().to_string();
+        let e = set
+            .report_unused(|| "curve".into())
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("\"float u\": unused"), "{e}");
         set.float("u", 0.0).unwrap();
         set.report_unused(|| "curve".into()).unwrap();
@@ -422,14 +425,22 @@ mod tests {
         let p = params("Shape \"curve\" \"float type\" 1\n \"string type\" \"flat\"");
         assert_eq!(p.string_ref("type", "cylinder").unwrap(), "flat");
         let e = p.report_unused(|| "curve".into()).unwrap_err().to_string();
-        assert!(e.contains("\"float type\": unused") && e.contains("<t>:1:15"), "{e}");
+        assert!(
+            e.contains("\"float type\": unused") && e.contains("<t>:1:15"),
+            "{e}"
+        );
         let p = params("Shape \"curve\" \"string type\" \"flat\"\n \"float type\" 1");
         let e = p.string_ref("type", "cylinder").unwrap_err().to_string();
         assert!(e.contains("wrong type") && e.contains("<t>:2:2"), "{e}");
         let p = params("Shape \"curve\" \"string type\" [\"flat\" \"ribbon\"]");
         let e = p.string_ref("type", "cylinder").unwrap_err().to_string();
         assert!(e.contains("expected one value for \"type\""), "{e}");
-        assert_eq!(params("Shape \"curve\"").string_ref("type", "cylinder").unwrap(), "cylinder");
+        assert_eq!(
+            params("Shape \"curve\"")
+                .string_ref("type", "cylinder")
+                .unwrap(),
+            "cylinder"
+        );
     }
 
     #[test]
@@ -445,14 +456,20 @@ mod tests {
             set.has_each(["width", "width0", "width1", "type", "N"]),
             [false, true, true, true, false]
         );
-        let e = set.report_unused(|| "curve".into()).unwrap_err().to_string();
+        let e = set
+            .report_unused(|| "curve".into())
+            .unwrap_err()
+            .to_string();
         assert!(e.contains("\"float width0\": unused"), "{e}");
     }
 
     #[test]
     fn point_coordinates_are_whole_points_in_order() {
         let p = params("Shape \"curve\" \"point3 P\" [1 2 3 4 5 6]");
-        assert_eq!(p.point3_coordinates("P").unwrap(), &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0]);
+        assert_eq!(
+            p.point3_coordinates("P").unwrap(),
+            &[1.0, 2.0, 3.0, 4.0, 5.0, 6.0]
+        );
         assert!(p.point3_coordinates("Q").unwrap().is_empty());
         p.report_unused(|| "curve".into()).unwrap();
     }

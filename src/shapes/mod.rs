@@ -667,7 +667,9 @@ fn push_bilinear_mesh(
     let mesh_index = storage.bilinear_meshes.len() as u32;
     let count = mesh.patch_count() as u32;
     storage.bilinear_meshes.push(mesh);
-    shapes.extend((0..count).map(|index| Shape::BilinearPatch(BilinearPatch::new(mesh_index, index))));
+    shapes.extend(
+        (0..count).map(|index| Shape::BilinearPatch(BilinearPatch::new(mesh_index, index))),
+    );
 }
 
 #[cfg(test)]

@@ -518,7 +518,15 @@ pub fn create_curves(
     // nothing; present, it is made as before, in the same order, so
     // errors and used marks stay the same.)
     let [has_basis, has_degree, has_width, has_width0, has_width1, has_split_depth, has_normals] =
-        p.has_each(["basis", "degree", "width", "width0", "width1", "splitdepth", "N"]);
+        p.has_each([
+            "basis",
+            "degree",
+            "width",
+            "width0",
+            "width1",
+            "splitdepth",
+            "N",
+        ]);
     let coordinates = p.point3_coordinates("P")?;
     let basis = if has_basis {
         p.string_ref("basis", "bezier")?
@@ -878,10 +886,22 @@ mod tests {
     fn expected_counts_are_the_counts_made() {
         let cases = [
             (r#""point3 P" [0 0 0 1 0 0 2 0 0 3 0 0]"#, (1, 8)),
-            (r#""point3 P" [0 0 0 1 0 0 2 0 0 3 0 0 4 0 0 5 0 0 6 0 0] "integer splitdepth" 1"#, (2, 4)),
-            (r#""point3 P" [0 0 0 1 0 0 2 0 0 3 0 0 4 0 0] "string basis" "bspline""#, (2, 16)),
-            (r#""point3 P" [0 0 0 1 0 0 2 0 0 3 1 0 4 0 0] "integer degree" 2 "integer splitdepth" 0"#, (2, 2)),
-            (r#""point3 P" [0 0 0 1 0 0 2 0 0 3 0 0] "integer splitdepth" 12"#, (1, 1024)),
+            (
+                r#""point3 P" [0 0 0 1 0 0 2 0 0 3 0 0 4 0 0 5 0 0 6 0 0] "integer splitdepth" 1"#,
+                (2, 4),
+            ),
+            (
+                r#""point3 P" [0 0 0 1 0 0 2 0 0 3 0 0 4 0 0] "string basis" "bspline""#,
+                (2, 16),
+            ),
+            (
+                r#""point3 P" [0 0 0 1 0 0 2 0 0 3 1 0 4 0 0] "integer degree" 2 "integer splitdepth" 0"#,
+                (2, 2),
+            ),
+            (
+                r#""point3 P" [0 0 0 1 0 0 2 0 0 3 0 0] "integer splitdepth" 12"#,
+                (1, 1024),
+            ),
         ];
         for (params, expected) in cases {
             let text = format!("WorldBegin\nShape \"curve\" {params}\n");
@@ -897,7 +917,10 @@ mod tests {
         // What `create_curves` refuses reserves nothing.
         let text = "WorldBegin\nShape \"curve\" \"point3 P\" [0 0 0 1 0 0] \"integer degree\" 4\n";
         let loaded = crate::scene::load_text(std::path::Path::new("c.pbrt"), text).unwrap();
-        assert_eq!(expected_counts(&loaded.scene.shapes[0].entity.params), (0, 0));
+        assert_eq!(
+            expected_counts(&loaded.scene.shapes[0].entity.params),
+            (0, 0)
+        );
     }
 
     /// The halvings from the exponent agree with pbrt's ⌈log₂(x) / 2⌉
