@@ -49,6 +49,15 @@ impl PartialEq for ParamSet {
     }
 }
 
+/// Whether two parameter names are equal, their lengths and first bytes
+/// compared before a call to compare their bytes: names that differ (most
+/// of those a lookup meets: "width" and "basis", "P" and "N") mostly
+/// differ there already.
+#[inline]
+fn same_name(a: &str, b: &str) -> bool {
+    a.len() == b.len() && a.as_bytes().first() == b.as_bytes().first() && a == b
+}
+
 impl ParamSet {
     pub fn new(params: Vec<Param>, attributes: &[Param]) -> Self {
         let own = params.len();
@@ -106,7 +115,7 @@ impl ParamSet {
         let mut found = None;
         let mut same_named = 0;
         for (i, p) in self.params.iter().enumerate() {
-            if p.name != name {
+            if !same_name(&p.name, name) {
                 continue;
             }
             same_named += 1;
@@ -152,7 +161,7 @@ impl ParamSet {
         let mut present = [false; N];
         for p in self.params.iter() {
             for (k, name) in names.iter().enumerate() {
-                if p.name == *name {
+                if same_name(&p.name, name) {
                     present[k] = true;
                 }
             }
@@ -461,6 +470,17 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("\"float width0\": unused"), "{e}");
+    }
+
+    #[test]
+    fn names_are_the_same_only_when_spelt_alike() {
+        assert!(same_name("width", "width"));
+        assert!(same_name("", ""));
+        assert!(!same_name("width", "basis"));
+        assert!(!same_name("width0", "width1"));
+        assert!(!same_name("width", "width0"));
+        assert!(!same_name("P", "N"));
+        assert!(!same_name("", "P"));
     }
 
     #[test]
