@@ -853,7 +853,7 @@ fn halvings_for_excess(excess: f32) -> u32 {
     // f ≥ 2⁻¹⁰: log₂(1 + f) ≥ 0.0014, far above log2f's error at any
     // exponent (an ulp of 127 is 2⁻¹⁷); the biased exponent 255 is inf.
     let near_a_power_of_four = exponent % 2 == 1 && fraction < 1 << 13;
-    if near_a_power_of_four || exponent >= 255 || exponent < 127 {
+    if near_a_power_of_four || !(127..255).contains(&exponent) {
         return (0.5 * excess.log2()).ceil() as u32;
     }
     (exponent - 127) / 2 + 1
