@@ -113,9 +113,15 @@ pub fn plan(
             );
         }
     }
-    let (moving, fixed): (Vec<Shape>, Vec<Shape>) = std::mem::take(&mut scene.shapes)
-        .into_iter()
-        .partition(|shape| scene.transform(shape.world_from_object).is_animated());
+    let shapes = std::mem::take(&mut scene.shapes);
+    let animated = |shape: &Shape| scene.transform(shape.world_from_object).is_animated();
+    // Most scenes have no moving shape: then the shapes are not copied
+    // into a second array (a hair scene's are most of its description).
+    let (moving, fixed): (Vec<Shape>, Vec<Shape>) = if shapes.iter().any(animated) {
+        shapes.into_iter().partition(animated)
+    } else {
+        (Vec::new(), shapes)
+    };
     let mut placements: Vec<ShapePlacement> = fixed
         .into_iter()
         .map(|shape| ShapePlacement {
