@@ -510,8 +510,6 @@ pub fn create_curves(
 ) -> Result<()> {
     let p = &shape.entity.params;
     let loc = &shape.entity.location.0;
-    // Borrowed, not copied: a hair file has hundreds of thousands of
-    // curves, each with its own points.
     // The optional parameters a curve gives, found in one pass: most
     // curves give one or two, and a lookup of an absent one scans every
     // parameter. (Absent, a lookup would give the default and mark
@@ -527,6 +525,8 @@ pub fn create_curves(
             "splitdepth",
             "N",
         ]);
+    // Borrowed, not copied: a hair file has hundreds of thousands of
+    // curves, each with its own points.
     let coordinates = p.point3_coordinates("P")?;
     let basis = if has_basis {
         p.string_ref("basis", "bezier")?
