@@ -125,7 +125,7 @@ pub fn render_file(
             let outcome = sampling.sample_pixels(GBufferPixel::default())?;
             let rgb = film_rgb(&built, &outcome, splats.as_ref());
             let mut data = Vec::with_capacity(outcome.pixels.len() * gbuffer::CHANNELS.len());
-            for (p, rgb) in outcome.pixels.iter().zip(rgb.chunks_exact(3)) {
+            for (p, rgb) in outcome.pixels.in_rows().zip(rgb.chunks_exact(3)) {
                 data.extend_from_slice(rgb);
                 data.extend_from_slice(&p.values());
             }
@@ -139,7 +139,7 @@ pub fn render_file(
             let outcome = sampling.sample_pixels(SpectralPixel::new(buckets))?;
             let rgb = film_rgb(&built, &outcome, splats.as_ref());
             let mut data = Vec::with_capacity(outcome.pixels.len() * (3 + buckets.count));
-            for (p, rgb) in outcome.pixels.iter().zip(rgb.chunks_exact(3)) {
+            for (p, rgb) in outcome.pixels.in_rows().zip(rgb.chunks_exact(3)) {
                 data.extend_from_slice(rgb);
                 data.extend(p.bucket_values());
             }
@@ -341,10 +341,11 @@ fn film_rgb<P: FilmPixel>(
 ) -> Vec<f32> {
     let film = &built.film;
     let mut data = Vec::with_capacity(outcome.pixels.len() * 3);
-    // Splats are averaged over the samples each pixel took, and the
-    // filter's weights over its integral, as pbrt-v4's film does.
-    let splat_scale = 1.0 / (outcome.samples_completed.max(1) as f32 * built.filter.integral());
-    for (i, p) in outcome.pixels.iter().enumerate() {
+    // Splats are averaged over the samples per pixel (their mean: a path
+    // from any tile may splat anywhere), and the filter's weights over its
+    // integral, as pbrt-v4's film does.
+    let splat_scale = 1.0 / (outcome.samples_mean.max(1.0) as f32 * built.filter.integral());
+    for (i, p) in outcome.pixels.in_rows().enumerate() {
         let mut rgb = film.pixel_rgb(p.rgb());
         if let Some(splats) = splats {
             rgb += film.splat_rgb(splats.sum(i) * splat_scale);

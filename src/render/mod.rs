@@ -3,9 +3,15 @@
 //!
 //! Every pixel sample is a pure function of (pixel, sample index, seed), and
 //! each pixel is accumulated by one task in sample order, so the image is
-//! identical at any thread count. Samples are taken in waves (1, 2, 4, …
-//! samples per pixel over the whole image) so that an interrupted render is
-//! uniformly converged rather than half finished.
+//! identical at any thread count. Samples are taken in waves (1, 1, 2, 4, …
+//! up to 64 samples per pixel over the whole image) so that an interrupted
+//! render is evenly converged rather than half finished: a tile takes a
+//! wave whole or not at all, and after Ctrl-C only the tiles already
+//! started finish the wave.
+
+mod tiled_pixels;
+
+pub use tiled_pixels::{Tile, TiledPixels, TILE};
 
 use crate::film::rgb::Pixel;
 use glam::IVec2;
@@ -14,14 +20,16 @@ use rayon::prelude::*;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
 
-const TILE: i32 = 16;
-
 /// What the loop did.
 pub struct RenderOutcome<P = Pixel> {
-    /// Pixel sums over the pixel bounds, row-major.
-    pub pixels: Vec<P>,
+    /// Pixel sums over the pixel bounds.
+    pub pixels: TiledPixels<P>,
     /// Samples per pixel completed in every pixel.
     pub samples_completed: u32,
+    /// Samples per pixel taken, averaged over the pixels: above
+    /// `samples_completed` where an interrupt let some tiles finish a wave
+    /// that others did not start.
+    pub samples_mean: f64,
     pub interrupted: bool,
     pub elapsed: Duration,
     /// The process's CPU time over the loop (user + system, all threads;
@@ -36,8 +44,9 @@ impl<P> RenderOutcome<P> {
     /// an image).
     pub fn without_pixels(self) -> RenderOutcome<()> {
         RenderOutcome {
-            pixels: Vec::new(),
+            pixels: TiledPixels::empty(),
             samples_completed: self.samples_completed,
+            samples_mean: self.samples_mean,
             interrupted: self.interrupted,
             elapsed: self.elapsed,
             cpu: self.cpu,
@@ -68,19 +77,7 @@ where
 {
     let start = Instant::now();
     let cpu_start = process_cpu_time();
-    let size = bounds.1 - bounds.0;
-    let mut pixels = vec![empty_pixel; (size.x.max(0) * size.y.max(0)) as usize];
-    let tiles: Vec<(IVec2, IVec2)> = (bounds.0.y..bounds.1.y)
-        .step_by(TILE as usize)
-        .flat_map(|y| {
-            (bounds.0.x..bounds.1.x)
-                .step_by(TILE as usize)
-                .map(move |x| {
-                    let lo = IVec2::new(x, y);
-                    (lo, (lo + IVec2::splat(TILE)).min(bounds.1))
-                })
-        })
-        .collect();
+    let mut pixels = TiledPixels::new(bounds, empty_pixel);
     let waves = waves(spp);
     let total: u64 = waves.iter().map(|(a, b)| (b - a) as u64).sum::<u64>() * pixels.len() as u64;
     let bar = if show_progress {
@@ -98,71 +95,63 @@ where
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(threads)
         .build()?;
-    let mut samples_completed = 0;
+    // Each tile's slice of the accumulators, so no pixel is shared between
+    // tasks, and the samples per pixel it has taken.
+    let mut tiles: Vec<(Tile, &mut [P], u32)> = pixels
+        .tiles_mut()
+        .into_iter()
+        .map(|(tile, slice)| (tile, slice, 0))
+        .collect();
     let mut interrupted = false;
     for (first, end) in waves {
-        // Each tile gets its own slice of accumulators, so no pixel is
-        // shared between tasks.
-        let mut tile_pixels: Vec<Vec<P>> = tiles
-            .iter()
-            .map(|(lo, hi)| {
-                let mut v = Vec::with_capacity(((hi.x - lo.x) * (hi.y - lo.y)) as usize);
-                for y in lo.y..hi.y {
-                    for x in lo.x..hi.x {
-                        v.push(pixels[index(bounds, IVec2::new(x, y))].clone());
-                    }
-                }
-                v
-            })
-            .collect();
         pool.install(|| {
             tiles
-                .par_iter()
-                .zip(tile_pixels.par_iter_mut())
+                .par_iter_mut()
                 // One tile per job: rayon's adaptive splitting otherwise
                 // hands out runs of tiles whose cost differs widely (hair
                 // covers some tiles only), leaving a thread idle for up to a
                 // quarter of every wave.
                 .with_max_len(1)
-                .for_each_init(&make_state, |state, ((lo, hi), acc)| {
+                .for_each_init(&make_state, |state, (tile, acc, taken)| {
                     if interrupt.load(Ordering::Relaxed) {
                         return;
                     }
                     let mut k = 0;
-                    for y in lo.y..hi.y {
-                        for x in lo.x..hi.x {
+                    for y in tile.lo.y..tile.hi.y {
+                        for x in tile.lo.x..tile.hi.x {
                             for s in first..end {
                                 evaluate(state, IVec2::new(x, y), s, &mut acc[k]);
                             }
                             k += 1;
                         }
                     }
-                    bar.inc(
-                        ((end - first) as i64 * (hi.x - lo.x) as i64 * (hi.y - lo.y) as i64) as u64,
-                    );
+                    *taken = end;
+                    bar.inc(((end - first) as usize * tile.pixel_count()) as u64);
                 });
         });
         if interrupt.load(Ordering::Relaxed) {
-            // Discard the partial wave: every pixel keeps the same count.
+            // Tiles not started keep the samples of the waves before.
             interrupted = true;
             break;
         }
-        for ((lo, hi), acc) in tiles.iter().zip(tile_pixels) {
-            let mut acc = acc.into_iter();
-            for y in lo.y..hi.y {
-                for x in lo.x..hi.x {
-                    if let Some(p) = acc.next() {
-                        pixels[index(bounds, IVec2::new(x, y))] = p;
-                    }
-                }
-            }
-        }
-        samples_completed = end;
     }
     bar.finish_and_clear();
+    let taken: Vec<(usize, u32)> = tiles
+        .iter()
+        .map(|(tile, _, taken)| (tile.pixel_count(), *taken))
+        .collect();
+    drop(tiles);
+    let samples_completed = taken.iter().map(|t| t.1).min().unwrap_or(spp);
+    let samples_mean = if pixels.is_empty() {
+        samples_completed as f64
+    } else {
+        let sum: f64 = taken.iter().map(|&(n, t)| n as f64 * t as f64).sum();
+        sum / pixels.len() as f64
+    };
     Ok(RenderOutcome {
         pixels,
         samples_completed,
+        samples_mean,
         interrupted,
         elapsed: start.elapsed(),
         cpu: process_cpu_time()
@@ -188,11 +177,6 @@ fn process_cpu_time() -> Option<Duration> {
 #[cfg(not(unix))]
 fn process_cpu_time() -> Option<Duration> {
     None
-}
-
-fn index(bounds: (IVec2, IVec2), p: IVec2) -> usize {
-    let w = bounds.1.x - bounds.0.x;
-    ((p.y - bounds.0.y) * w + (p.x - bounds.0.x)) as usize
 }
 
 /// Sample-index ranges of the waves: 1, 1, 2, 4, … up to 64 per wave.
@@ -280,19 +264,31 @@ mod tests {
         let a = run(1);
         let b = run(2);
         assert_eq!(a.samples_completed, 7);
+        assert_eq!(a.samples_mean, 7.0);
         assert!(a
             .pixels
-            .iter()
-            .zip(&b.pixels)
+            .in_rows()
+            .zip(b.pixels.in_rows())
             .all(|(x, y)| x.rgb_sum == y.rgb_sum && x.weight_sum == y.weight_sum));
-        assert!(a.pixels.iter().all(|p| p.weight_sum == 7.0));
+        // Each pixel's sum is its own (pixel, sample) values, in its place.
+        let (lo, hi) = bounds;
+        let pixels: Vec<IVec2> = (lo.y..hi.y)
+            .flat_map(|y| (lo.x..hi.x).map(move |x| IVec2::new(x, y)))
+            .collect();
+        for (p, px) in pixels.iter().zip(a.pixels.in_rows()) {
+            let sum: f64 = (0..7)
+                .map(|s| ((p.x * 31 + p.y * 17 + s * 7) % 13) as f64)
+                .sum();
+            assert_eq!((px.rgb_sum[0], px.weight_sum), (sum, 7.0), "{p}");
+        }
     }
 
     #[test]
     fn an_interrupt_keeps_whole_waves() {
         let flag = AtomicBool::new(false);
+        let bounds = (IVec2::ZERO, IVec2::new(40, 40));
         let out = render(
-            (IVec2::ZERO, IVec2::new(40, 40)),
+            bounds,
             64,
             2,
             false,
@@ -308,8 +304,21 @@ mod tests {
         )
         .unwrap();
         assert!(out.interrupted);
-        assert!(out.samples_completed < 64);
-        let n = out.samples_completed as f64;
-        assert!(out.pixels.iter().all(|p| p.weight_sum == n));
+        let n = out.samples_completed;
+        assert!(n < 64);
+        // Every tile holds whole waves: the completed ones, and the
+        // interrupted one where the tile had started it (at least the
+        // tile that raised the flag, which started it before).
+        let next = waves(64).into_iter().find(|w| w.0 == n).unwrap().1;
+        let counts: Vec<f64> = out.pixels.in_rows().map(|p| p.weight_sum).collect();
+        assert!(counts.iter().all(|&c| c == n as f64 || c == next as f64));
+        assert_eq!(counts[20 * 40 + 20], next as f64);
+        let mean = counts.iter().sum::<f64>() / counts.len() as f64;
+        assert_eq!(out.samples_mean, mean);
+        // The pixels of one tile took the same samples.
+        let mut tiled = out.pixels;
+        for (_, slice) in tiled.tiles_mut() {
+            assert!(slice.iter().all(|p| p.weight_sum == slice[0].weight_sum));
+        }
     }
 }
