@@ -90,7 +90,7 @@ impl ShapeStorage {
     /// Moves the items of `others` to the end of this storage, in order;
     /// the shapes made into `others[i]` then need [`Shape::relocated`] with
     /// the `i`-th offsets. The curve pieces (most of a hair scene's bytes)
-    /// are copied in parallel, each once. `Err(i)` (and nothing moved) if
+    /// are copied once each, run after run. `Err(i)` (and nothing moved) if
     /// `others[i]`'s curve segments would pass [`curve::MAX_SEGMENTS`].
     pub fn append_all(
         &mut self,
