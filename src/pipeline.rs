@@ -28,7 +28,11 @@ pub struct RenderReport {
     pub output: PathBuf,
     pub resolution: (u32, u32),
     pub spp_requested: u32,
+    /// Samples per pixel every pixel took.
     pub spp_completed: u32,
+    /// Samples per pixel taken on average: above `spp_completed` where an
+    /// interrupt let the tiles that had started a wave finish it.
+    pub spp_mean: f64,
     pub interrupted: bool,
     /// Reading the scene file into a scene description.
     pub parse: Duration,
@@ -190,6 +194,7 @@ pub fn render_file(
         resolution: (w, h),
         spp_requested: spp,
         spp_completed: outcome.samples_completed,
+        spp_mean: outcome.samples_mean,
         interrupted: outcome.interrupted,
         parse,
         build: build_time,

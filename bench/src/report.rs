@@ -527,10 +527,9 @@ fn summary_row(r: &SceneResult) -> String {
         pbrt_curve.first(),
         pbrt_curve.last(),
     ) {
-        (Some(lo), Some(hi), Some(first), Some(last)) if same_run_ratios.len() > 1 => format!(
-            "; {lo:.2}–{hi:.2}× over {}–{} spp",
-            first.0, last.0
-        ),
+        (Some(lo), Some(hi), Some(first), Some(last)) if same_run_ratios.len() > 1 => {
+            format!("; {lo:.2}–{hi:.2}× over {}–{} spp", first.0, last.0)
+        }
         _ => String::new(),
     };
     let ratio = headline.map_or("—".into(), |(ratio, x, spp, against)| {
@@ -903,7 +902,10 @@ mod tests {
         // times: the scene has no README ratio table, and rpbrt at
         // pbrt-v4's seed (2 s) is set against the same-run 3 s.
         assert!(!text.contains("4.00 (quiet)"), "{text}");
-        assert!(text.contains("| 2.00 | 0.67× of 3.00 (this run) |"), "{text}");
+        assert!(
+            text.contains("| 2.00 | 0.67× of 3.00 (this run) |"),
+            "{text}"
+        );
         assert!(!text.contains("\n\n\n"), "{text}");
     }
 }

@@ -92,8 +92,14 @@ pub fn run(cli: &RenderArgs) -> Result<(), Error> {
             eprintln!("{w}");
         }
         if report.interrupted {
+            // Tiles that had started the interrupted wave finished it.
+            let more = if report.spp_mean > report.spp_completed as f64 {
+                format!(" ({:.1} on average)", report.spp_mean)
+            } else {
+                String::new()
+            };
             eprintln!(
-                "interrupted after {} of {} samples per pixel; wrote the partial image",
+                "interrupted after {} of {} samples per pixel{more}; wrote the partial image",
                 report.spp_completed, report.spp_requested
             );
         }
