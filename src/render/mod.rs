@@ -11,7 +11,7 @@
 
 mod tiled_pixels;
 
-pub use tiled_pixels::{Tile, TiledPixels, TILE};
+pub use tiled_pixels::{Tile, TiledPixels};
 
 use crate::film::rgb::Pixel;
 use glam::IVec2;

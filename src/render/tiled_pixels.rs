@@ -7,7 +7,7 @@ use glam::IVec2;
 
 /// Tile edge in pixels (tiles at the right and bottom edges may be
 /// narrower or shorter).
-pub const TILE: i32 = 16;
+const TILE: i32 = 16;
 
 /// A tile: pixels `[lo, hi)` in x and y.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -59,7 +59,7 @@ impl<P> TiledPixels<P> {
     }
 
     /// The tiles in storage order.
-    pub fn tiles(&self) -> Vec<Tile> {
+    fn tiles(&self) -> Vec<Tile> {
         let (lo, hi) = self.bounds;
         (lo.y..hi.y)
             .step_by(TILE as usize)
