@@ -52,6 +52,7 @@ use crate::scene_description;
 use crate::textures::NamedTextures;
 use glam::{Vec2, Vec3};
 use pbrt_parser::Warning;
+use rayon::prelude::*;
 
 use std::path::Path;
 
@@ -90,7 +91,7 @@ impl ShapeStorage {
     /// Moves the items of `others` to the end of this storage, in order;
     /// the shapes made into `others[i]` then need [`Shape::relocated`] with
     /// the `i`-th offsets. The curve pieces (most of a hair scene's bytes)
-    /// are copied once each, run after run. `Err(i)` (and nothing moved) if
+    /// are copied once each, run after run (each run's in parallel). `Err(i)` (and nothing moved) if
     /// `others[i]`'s curve segments would pass [`curve::MAX_SEGMENTS`].
     pub fn append_all(
         &mut self,
@@ -124,10 +125,12 @@ impl ShapeStorage {
         let trim_every = others.len().div_ceil(32).max(1);
         for (k, (other, &shift)) in others.iter_mut().zip(&segment_offsets).enumerate() {
             let other = std::mem::take(other);
-            self.curve_pieces.extend(
+            // Written in place by all threads (the pages of the new array
+            // fault in on several cores).
+            self.curve_pieces.par_extend(
                 other
                     .curve_pieces
-                    .iter()
+                    .par_iter()
                     .map(|piece| piece.with_segment_shifted(shift)),
             );
             self.triangle_meshes.extend(other.triangle_meshes);
