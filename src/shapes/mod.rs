@@ -91,8 +91,9 @@ impl ShapeStorage {
     /// Moves the items of `others` to the end of this storage, in order;
     /// the shapes made into `others[i]` then need [`Shape::relocated`] with
     /// the `i`-th offsets. The curve pieces (most of a hair scene's bytes)
-    /// are copied once each, run after run (each run's in parallel). `Err(i)` (and nothing moved) if
-    /// `others[i]`'s curve segments would pass [`curve::MAX_SEGMENTS`].
+    /// are copied once each, run after run, each run's in parallel.
+    /// `Err(i)` (and nothing moved) if `others[i]`'s curve segments would
+    /// pass [`curve::MAX_SEGMENTS`].
     pub fn append_all(
         &mut self,
         mut others: Vec<ShapeStorage>,
