@@ -130,7 +130,7 @@ impl ParamSet {
         // Same-named parameters are all accounted for by this lookup.
         if same_named > 1 {
             for (j, q) in self.params.iter().enumerate() {
-                if q.name == name && types.contains(&q.ty) {
+                if same_name(&q.name, name) && types.contains(&q.ty) {
                     self.mark_used(j);
                 }
             }
@@ -206,13 +206,7 @@ impl ParamSet {
     }
 
     pub fn string(&self, name: &str, default: &str) -> Result<String> {
-        let Some(p) = self.find(name, &[ParamType::String])? else {
-            return Ok(default.to_string());
-        };
-        match p.strings() {
-            [s] => Ok(s.to_string()),
-            _ => scene_error(format!("expected one value for \"{name}\""), &p.location),
-        }
+        self.string_ref(name, default).map(str::to_string)
     }
 
     /// [`ParamSet::string`] without the copy (a hair file looks strings
