@@ -154,6 +154,7 @@ impl Bvh {
     /// Closest hit: `intersect(i, t_max)` returns the hit distance of
     /// primitive `i` if it is below `t_max` (and above 0). Returns the
     /// primitive and distance of the closest hit.
+    #[inline(always)]
     pub fn closest_hit(
         &self,
         ray: &Ray,
@@ -168,6 +169,11 @@ impl Bvh {
     /// of them is intersected: the caller can start loading what
     /// `intersect(i, ..)` will read, so that the leaves' cache misses
     /// overlap instead of following one another.
+    ///
+    /// Always inlined, as are the other queries: the scene compiles its
+    /// queries once more for x86-64-v3 (`InstructionSet`), and only what
+    /// is inlined there gets the wider instructions.
+    #[inline(always)]
     pub fn closest_hit_prefetching(
         &self,
         ray: &Ray,
@@ -199,12 +205,14 @@ impl Bvh {
     }
 
     /// Whether any primitive is hit before `t_max`.
+    #[inline(always)]
     pub fn any_hit(&self, ray: &Ray, t_max: f32, hits: impl FnMut(usize, f32) -> bool) -> bool {
         self.any_hit_prefetching(ray, t_max, |_| {}, hits)
     }
 
     /// As [`Bvh::any_hit`], with `prefetch` as in
     /// [`Bvh::closest_hit_prefetching`].
+    #[inline(always)]
     pub fn any_hit_prefetching(
         &self,
         ray: &Ray,

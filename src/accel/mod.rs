@@ -2,8 +2,10 @@
 
 pub mod bvh;
 pub mod instance;
+pub mod instruction_set;
 pub mod parallel_build;
 pub mod prefetch;
 
 pub use bvh::Bvh;
+pub use instruction_set::InstructionSet;
 pub use prefetch::prefetch;

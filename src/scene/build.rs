@@ -6,7 +6,7 @@ use super::alpha;
 use super::placed_shapes;
 use crate::accel::bvh::{build_box, BuildBox};
 use crate::accel::instance::{build_levels, InstanceAccel};
-use crate::accel::Bvh;
+use crate::accel::{Bvh, InstructionSet};
 use crate::cameras::Camera;
 use crate::error::{scene_error, Result};
 use crate::film::RgbFilm;
@@ -121,6 +121,8 @@ pub struct BuiltScene {
     /// Which primitives a ray tests as curves, and where their pieces are
     /// (see [`CurveLookup`]).
     curve_lookup: CurveLookup,
+    /// Which copy of the BVH queries rays run ([`InstructionSet`]).
+    instruction_set: InstructionSet,
     pub materials: Vec<Material>,
     pub lights: Vec<Light>,
     pub infinite_lights: Vec<usize>,
@@ -163,6 +165,34 @@ impl BuiltScene {
     /// hits are kept light until the closest one is known (building a
     /// curve's interaction costs more than finding it).
     fn intersect_bvh(&self, bvh: &Bvh, ray: &Ray, t_max: f32) -> Option<SurfaceInteraction> {
+        #[cfg(target_arch = "x86_64")]
+        if self.instruction_set == InstructionSet::X86_64V3 {
+            // SAFETY: `detect` found every feature the copy is compiled for.
+            return unsafe { self.intersect_bvh_x86_64_v3(bvh, ray, t_max) };
+        }
+        self.intersect_bvh_inlined(bvh, ray, t_max)
+    }
+
+    /// [`Self::intersect_bvh`] compiled for x86-64-v3.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx,avx2,fma,bmi1,bmi2,lzcnt,popcnt,sse3,ssse3,sse4.1,sse4.2")]
+    fn intersect_bvh_x86_64_v3(
+        &self,
+        bvh: &Bvh,
+        ray: &Ray,
+        t_max: f32,
+    ) -> Option<SurfaceInteraction> {
+        self.intersect_bvh_inlined(bvh, ray, t_max)
+    }
+
+    /// Inlined into each copy, and with it the traversal.
+    #[inline(always)]
+    fn intersect_bvh_inlined(
+        &self,
+        bvh: &Bvh,
+        ray: &Ray,
+        t_max: f32,
+    ) -> Option<SurfaceInteraction> {
         enum Best {
             Full(SurfaceInteraction, usize),
             Curve(crate::shapes::curve::CurveHit, u32, usize),
@@ -228,6 +258,24 @@ impl BuiltScene {
 
     /// Whether any primitive of one BVH lies on `ray` before `t_max`.
     fn intersect_p_bvh(&self, bvh: &Bvh, ray: &Ray, t_max: f32) -> bool {
+        #[cfg(target_arch = "x86_64")]
+        if self.instruction_set == InstructionSet::X86_64V3 {
+            // SAFETY: `detect` found every feature the copy is compiled for.
+            return unsafe { self.intersect_p_bvh_x86_64_v3(bvh, ray, t_max) };
+        }
+        self.intersect_p_bvh_inlined(bvh, ray, t_max)
+    }
+
+    /// [`Self::intersect_p_bvh`] compiled for x86-64-v3.
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx,avx2,fma,bmi1,bmi2,lzcnt,popcnt,sse3,ssse3,sse4.1,sse4.2")]
+    fn intersect_p_bvh_x86_64_v3(&self, bvh: &Bvh, ray: &Ray, t_max: f32) -> bool {
+        self.intersect_p_bvh_inlined(bvh, ray, t_max)
+    }
+
+    /// Inlined into each copy, and with it the traversal.
+    #[inline(always)]
+    fn intersect_p_bvh_inlined(&self, bvh: &Bvh, ray: &Ray, t_max: f32) -> bool {
         let frame = crate::shapes::curve::RayFrame::new(ray);
         let test = |i, t_max| {
             if let (Some(c), Some(frame)) = (self.curve_without_alpha(i), &frame) {
@@ -510,6 +558,7 @@ pub fn build(mut description: SceneDescription, overrides: &RenderOverrides) -> 
         bvh,
         instances,
         curve_lookup,
+        instruction_set: InstructionSet::detect(),
         materials,
         lights,
         infinite_lights,
@@ -1354,6 +1403,52 @@ mod tests {
             hits += found.is_some() as usize;
         }
         assert!(hits > 150, "{hits} hits: the test should hit something");
+    }
+
+    /// The x86-64-v3 copy of the ray queries finds the same hits, to the
+    /// bit, as the baseline one: curves, cut-out curves and triangles, with
+    /// a BVH large enough to be built in parts.
+    #[test]
+    fn both_instruction_sets_find_the_same_hits() {
+        if InstructionSet::detect() == InstructionSet::Baseline {
+            eprintln!("skipped: this processor has no x86-64-v3 instructions");
+            return;
+        }
+        let mut scene = random_scene(9000, 200, 300);
+        let mut rng = TestRng::new(3);
+        let mut rnd = move || rng.uniform();
+        let rays: Vec<Ray> = (0..20_000)
+            .map(|_| {
+                let origin = Vec3::new(rnd(), rnd(), rnd()) * 1.4 - 0.2;
+                let direction = (Vec3::new(rnd(), rnd(), rnd()) - 0.5).normalize();
+                Ray::new(origin, direction, 0.0)
+            })
+            .collect();
+        let answers = |scene: &BuiltScene| -> Vec<(Option<[u32; 12]>, bool)> {
+            rays.iter()
+                .map(|ray| {
+                    let hit = scene.intersect(ray, 2.0).map(|(si, _)| {
+                        let mut bits = [0; 12];
+                        bits[..3].copy_from_slice(&[
+                            si.t.to_bits(),
+                            si.primitive,
+                            si.curve_h.to_bits(),
+                        ]);
+                        let vectors = [si.p, si.n, si.dpdu].map(|v| v.to_array().map(f32::to_bits));
+                        bits[3..].copy_from_slice(vectors.as_flattened());
+                        bits
+                    });
+                    (hit, scene.intersect_p(ray, 0.3))
+                })
+                .collect()
+        };
+        scene.instruction_set = InstructionSet::X86_64V3;
+        let wide = answers(&scene);
+        scene.instruction_set = InstructionSet::Baseline;
+        let baseline = answers(&scene);
+        let hits = baseline.iter().filter(|(hit, _)| hit.is_some()).count();
+        assert!(hits > 1000, "{hits} hits: the test should hit something");
+        assert!(wide == baseline);
     }
 
     /// An instanced object whose only shape is invisible (alpha 0) is an
