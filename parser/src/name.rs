@@ -45,23 +45,45 @@ impl Hasher for Fnv {
     }
 }
 
+/// Names looked up last, compared before the table is: a file's
+/// directives mostly repeat a handful (a curve's `type`, `P`, `width`), and
+/// a comparison or two costs less than hashing and probing the table.
+const RECENT: usize = 8;
+
+/// A thread's names: the table, and the last [`RECENT`] names used.
+#[derive(Default)]
+struct Names {
+    table: HashSet<Arc<str>, BuildHasherDefault<Fnv>>,
+    recent: [Option<Arc<str>>; RECENT],
+    /// The slot of `recent` the next name takes.
+    next: usize,
+}
+
 thread_local! {
-    static TABLE: RefCell<HashSet<Arc<str>, BuildHasherDefault<Fnv>>> =
-        RefCell::new(HashSet::default());
+    static NAMES: RefCell<Names> = RefCell::new(Names::default());
 }
 
 impl Name {
     /// The name `text`, shared with earlier names spelt alike.
     pub fn new(text: &str) -> Self {
-        TABLE.with(|table| {
-            let mut table = table.borrow_mut();
-            if let Some(shared) = table.get(text) {
+        NAMES.with(|names| {
+            let mut names = names.borrow_mut();
+            if let Some(shared) = names.recent.iter().flatten().find(|n| ***n == *text) {
                 return Name(shared.clone());
             }
-            let name: Arc<str> = Arc::from(text);
-            if table.len() < TABLE_LIMIT {
-                table.insert(name.clone());
-            }
+            let name = match names.table.get(text) {
+                Some(shared) => shared.clone(),
+                None => {
+                    let name: Arc<str> = Arc::from(text);
+                    if names.table.len() < TABLE_LIMIT {
+                        names.table.insert(name.clone());
+                    }
+                    name
+                }
+            };
+            let slot = names.next;
+            names.recent[slot] = Some(name.clone());
+            names.next = (slot + 1) % RECENT;
             Name(name)
         })
     }
