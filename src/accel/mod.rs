@@ -5,6 +5,7 @@ pub mod instance;
 pub mod instruction_set;
 pub mod parallel_build;
 pub mod prefetch;
+pub mod wide_conversion;
 
 pub use bvh::Bvh;
 pub use instruction_set::InstructionSet;

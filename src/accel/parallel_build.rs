@@ -13,6 +13,7 @@
 //! come from binned surface-area splits instead of PLOC's clustering; the
 //! groups are then as good as obvhs makes them.
 
+use super::wide_conversion::WideConversion;
 use glam::Vec3A;
 use obvhs::aabb::Aabb;
 use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
@@ -80,6 +81,7 @@ struct PartWorkspace {
     clustering: PlocBuilder,
     binary_tree: Bvh2,
     reinsertion: ReinsertionOptimizer,
+    conversion: WideConversion,
 }
 
 impl PartWorkspace {
@@ -100,7 +102,7 @@ impl PartWorkspace {
         self.reinsertion
             .run(&mut self.binary_tree, params.reinsertion_batch_ratio, None);
         let max_per_leaf = params.max_prims_per_leaf.clamp(1, 3);
-        let mut tree = bvh2_to_cwbvh(&self.binary_tree, max_per_leaf, true, false);
+        let mut tree = self.conversion.convert(&self.binary_tree, max_per_leaf);
         for index in &mut tree.primitive_indices {
             *index = box_index(group[*index as usize]) as u32;
         }
