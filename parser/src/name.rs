@@ -5,8 +5,8 @@
 //! (a 16-byte pointer in each parameter) instead of a heap block per
 //! parameter saves both the memory and the allocation. Names are shared
 //! through a small per-thread table; past [`TABLE_LIMIT`] distinct names
-//! (a generated or fuzzed file) a name is simply not shared, so the table
-//! stays small whatever the input.
+//! (a generated or fuzzed file) a name is not added to it (only to the
+//! last [`RECENT`] used), so the table stays small whatever the input.
 
 use std::cell::RefCell;
 use std::collections::HashSet;

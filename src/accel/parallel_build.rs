@@ -185,8 +185,8 @@ fn build_group(
         .map(|part| build_group(aabbs, part, params, part_size, split, workspaces))
         .collect();
     if group.len() == aabbs.len() {
-        // Every part is built: the workspaces go before the joined tree
-        // comes (at 16 threads they were 8 MB of a hair scene's peak).
+        // Every part is built: the workspaces (a few MB each, one per
+        // thread) go before the joined tree comes.
         workspaces.free();
     }
     join_under_root(parts).unwrap_or_else(|| workspaces.build(aabbs, group, params))

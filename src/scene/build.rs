@@ -174,9 +174,12 @@ impl BuiltScene {
     }
 
     /// [`Self::intersect_bvh`] compiled for x86-64-v3.
+    ///
+    /// # Safety
+    /// The processor must have the features named (`InstructionSet::detect`).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx,avx2,fma,bmi1,bmi2,lzcnt,popcnt,sse3,ssse3,sse4.1,sse4.2")]
-    fn intersect_bvh_x86_64_v3(
+    unsafe fn intersect_bvh_x86_64_v3(
         &self,
         bvh: &Bvh,
         ray: &Ray,
@@ -267,9 +270,12 @@ impl BuiltScene {
     }
 
     /// [`Self::intersect_p_bvh`] compiled for x86-64-v3.
+    ///
+    /// # Safety
+    /// The processor must have the features named (`InstructionSet::detect`).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx,avx2,fma,bmi1,bmi2,lzcnt,popcnt,sse3,ssse3,sse4.1,sse4.2")]
-    fn intersect_p_bvh_x86_64_v3(&self, bvh: &Bvh, ray: &Ray, t_max: f32) -> bool {
+    unsafe fn intersect_p_bvh_x86_64_v3(&self, bvh: &Bvh, ray: &Ray, t_max: f32) -> bool {
         self.intersect_p_bvh_inlined(bvh, ray, t_max)
     }
 
