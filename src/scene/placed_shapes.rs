@@ -388,7 +388,7 @@ mod tests {
         let scene = build(loaded.scene, &RenderOverrides::default()).unwrap();
         let segments = &scene.shapes.curve_segments;
         assert_eq!(segments.len(), 60);
-        let mut seen = vec![false; 60];
+        let mut seen = [false; 60];
         for segment in segments {
             // Which curve: its first point is s·(i, 1, …).
             let first = segment.cp[0];
