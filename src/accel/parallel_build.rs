@@ -125,20 +125,22 @@ struct Workspaces(Mutex<Vec<PartWorkspace>>);
 
 impl Workspaces {
     fn build(&self, aabbs: &[Aabb], group: &[Member], params: BvhBuildParams) -> CwBvh {
-        let taken = self.0.lock().unwrap_or_else(|e| e.into_inner()).pop();
+        let taken = self.idle().pop();
         let mut workspace = taken.unwrap_or_default();
         let tree = workspace.build(aabbs, group, params);
         if group.len() >= REUSED_FROM {
-            self.0
-                .lock()
-                .unwrap_or_else(|e| e.into_inner())
-                .push(workspace);
+            self.idle().push(workspace);
         }
         tree
     }
 
     fn free(&self) {
-        self.0.lock().unwrap_or_else(|e| e.into_inner()).clear();
+        self.idle().clear();
+    }
+
+    /// The workspaces no part is using.
+    fn idle(&self) -> std::sync::MutexGuard<'_, Vec<PartWorkspace>> {
+        self.0.lock().unwrap_or_else(|e| e.into_inner())
     }
 }
 

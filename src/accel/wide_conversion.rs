@@ -205,11 +205,10 @@ impl Output<'_> {
                 continue;
             }
             let child_aabb = self.binary.nodes[child as usize].aabb();
-            let p = Vec3A::from(out.p);
-            let lo = ((child_aabb.min - p) * rcp_e)
+            let lo = ((child_aabb.min - aabb.min) * rcp_e)
                 .floor()
                 .clamp(Vec3A::ZERO, Vec3A::splat(255.0));
-            let hi = ((child_aabb.max - p) * rcp_e)
+            let hi = ((child_aabb.max - aabb.min) * rcp_e)
                 .ceil()
                 .clamp(Vec3A::ZERO, Vec3A::splat(255.0));
             out.child_min_x[slot] = lo.x as u8;
@@ -282,6 +281,19 @@ impl Output<'_> {
     }
 }
 
+/// Slot s's octant diagonal: x, y, z negative where bits 2, 1, 0 of s are
+/// set (obvhs's table).
+const OCTANT_DIAGONALS: [Vec3A; 8] = [
+    Vec3A::new(1.0, 1.0, 1.0),
+    Vec3A::new(1.0, 1.0, -1.0),
+    Vec3A::new(1.0, -1.0, 1.0),
+    Vec3A::new(1.0, -1.0, -1.0),
+    Vec3A::new(-1.0, 1.0, 1.0),
+    Vec3A::new(-1.0, 1.0, -1.0),
+    Vec3A::new(-1.0, -1.0, 1.0),
+    Vec3A::new(-1.0, -1.0, -1.0),
+];
+
 /// Puts the first `count` of `children` into the slots whose ray octant
 /// their direction from `center` suits, as obvhs does: greedily, the
 /// child and slot whose cost (the direction's dot product with the
@@ -299,12 +311,7 @@ fn order_by_direction(
     for (c, &child) in children[..count].iter().enumerate() {
         let v = nodes[child as usize].aabb().center() - center;
         for s in 0..8 {
-            let diagonal = Vec3A::new(
-                if s & 0b100 != 0 { -1.0 } else { 1.0 },
-                if s & 0b010 != 0 { -1.0 } else { 1.0 },
-                if s & 0b001 != 0 { -1.0 } else { 1.0 },
-            );
-            let cost = diagonal.dot(v);
+            let cost = OCTANT_DIAGONALS[s].dot(v);
             // obvhs takes a cost only below f32::MAX (its starting
             // minimum): not infinities or NaN.
             if cost < f32::MAX {
