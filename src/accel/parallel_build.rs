@@ -65,7 +65,7 @@ pub fn build_cwbvh_in_parts(
         // obvhs reports its core build time; unused here.
         return build_cwbvh(aabbs, params, &mut std::time::Duration::default());
     }
-    let mut group: Vec<u64> = (0..aabbs.len() as u64).collect();
+    let mut group = Member::all(aabbs);
     let workspaces = Workspaces::default();
     build_group(aabbs, &mut group, params, part_size, split, &workspaces)
 }
@@ -90,7 +90,7 @@ impl PartWorkspace {
     fn build(&mut self, aabbs: &[Aabb], group: &[Member], params: BvhBuildParams) -> CwBvh {
         self.boxes.clear();
         self.boxes
-            .extend(group.iter().map(|&m| aabbs[box_index(m)]));
+            .extend(group.iter().map(|m| aabbs[m.index as usize]));
         self.clustering.build_with_bvh(
             &mut self.binary_tree,
             params.ploc_search_distance,
@@ -104,7 +104,7 @@ impl PartWorkspace {
         let max_per_leaf = params.max_prims_per_leaf.clamp(1, 3);
         let mut tree = self.conversion.convert(&self.binary_tree, max_per_leaf);
         for index in &mut tree.primitive_indices {
-            *index = box_index(group[*index as usize]) as u32;
+            *index = group[*index as usize].index;
         }
         tree
     }
@@ -144,17 +144,37 @@ impl Workspaces {
     }
 }
 
-/// A primitive of a group being split: its index in the array of boxes in
-/// the low 32 bits, and above them, while the group is halved, its
-/// centroid along the split axis as [`ordered_bits`]. Selecting the median
-/// among these integers reads no box: selecting among indices by their
-/// boxes' centroids read two boxes at random per comparison, and was the
-/// build's largest cost above a million primitives (120 MB of random
-/// curves: 11 % of the run's CPU time).
-type Member = u64;
+/// A primitive of a group being split: its box's centroid and its index in
+/// the array of boxes. The centroid travels with the index, so halving a
+/// group reads its members in order and no box at all: selecting among
+/// indices by their boxes' centroids read boxes at random, twice per
+/// halving (the centroids' bounds, then the keys to select by), and was
+/// the build's largest cost above a million primitives (120 MB of random
+/// curves: 13 % of the run's CPU time).
+#[derive(Clone, Copy, Debug)]
+struct Member {
+    centroid: [f32; 3],
+    index: u32,
+}
 
-fn box_index(member: Member) -> usize {
-    (member & u64::from(u32::MAX)) as usize
+impl Member {
+    /// The members of every box of `aabbs`, in order.
+    fn all(aabbs: &[Aabb]) -> Vec<Member> {
+        aabbs
+            .par_iter()
+            .enumerate()
+            .map(|(index, b)| Member {
+                centroid: b.center().into(),
+                index: index as u32,
+            })
+            .collect()
+    }
+
+    /// The order of a halving along `axis`: by centroid as
+    /// `f32::total_cmp` orders them, ties by index.
+    fn key(self, axis: usize) -> u64 {
+        u64::from(ordered_bits(self.centroid[axis])) << 32 | u64::from(self.index)
+    }
 }
 
 /// `x`'s bits as an unsigned integer in the order of `f32::total_cmp`.
@@ -204,7 +224,6 @@ fn split_into_groups<'a>(
     split: Split,
     count: usize,
 ) -> Vec<&'a mut [Member]> {
-    let centroid = |m: Member| aabbs[box_index(m)].center();
     if count <= 1 {
         return vec![members];
     }
@@ -212,8 +231,8 @@ fn split_into_groups<'a>(
         .par_iter()
         .fold(
             || (Vec3A::splat(f32::INFINITY), Vec3A::splat(f32::NEG_INFINITY)),
-            |(lo, hi), &m| {
-                let c = centroid(m);
+            |(lo, hi), m| {
+                let c = Vec3A::from(m.centroid);
                 (lo.min(c), hi.max(c))
             },
         )
@@ -239,11 +258,7 @@ fn split_into_groups<'a>(
     // The `middle` smallest centroids along the axis go left (ties in
     // index order): the same halves as the bins' split plane, up to ties
     // at the plane.
-    members.par_iter_mut().for_each(|m| {
-        let key = ordered_bits(centroid(*m)[axis]);
-        *m = u64::from(key) << 32 | box_index(*m) as u64;
-    });
-    members.select_nth_unstable(middle);
+    members.select_nth_unstable_by_key(middle, |m| m.key(axis));
     let (left, right) = members.split_at_mut(middle);
     let (mut groups, right_groups) = rayon::join(
         || split_into_groups(left, aabbs, split, count / 2),
@@ -273,7 +288,7 @@ fn surface_area_split(
         return n / 2;
     }
     let scale = BINS as f32 / (hi - lo);
-    let bin = |i: usize| (((aabbs[i].center()[axis] - lo) * scale) as usize).min(BINS - 1);
+    let bin = |m: &Member| (((m.centroid[axis] - lo) * scale) as usize).min(BINS - 1);
     // Each chunk's bins filled in place (a fold moving the 1.3 kB of bins
     // per primitive costs more than the binning).
     let (boxes, counts) = members
@@ -281,10 +296,9 @@ fn surface_area_split(
         .map(|chunk| {
             let mut boxes = [Aabb::empty(); BINS];
             let mut counts = [0usize; BINS];
-            for &m in chunk {
-                let i = box_index(m);
-                let k = bin(i);
-                boxes[k] = boxes[k].union(&aabbs[i]);
+            for m in chunk {
+                let k = bin(m);
+                boxes[k] = boxes[k].union(&aabbs[m.index as usize]);
                 counts[k] += 1;
             }
             (boxes, counts)
@@ -524,7 +538,7 @@ mod tests {
         for b in &mut boxes[..300] {
             *b = Aabb::new(b.min * 0.1, b.max * 0.1);
         }
-        let members: Vec<Member> = (0..boxes.len() as u64).collect();
+        let members = Member::all(&boxes);
         let lo = boxes.iter().fold(Vec3A::INFINITY, |a, b| a.min(b.center()));
         let hi = boxes
             .iter()
