@@ -34,6 +34,16 @@ pub fn return_large_blocks_when_freed() {
     }
 }
 
+/// Whether a thread started beside the pool's `pool_threads` and the main
+/// thread still gets an allocator arena of its own: glibc makes at most
+/// eight per core and then has threads share them, which changes where
+/// the build's blocks land (hair-eumel-2-256 at 16 threads on 2 cores:
+/// one thread more made the BVH phase's peak 6 MB higher).
+pub fn another_thread_gets_its_own_arena(pool_threads: usize) -> bool {
+    let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
+    pool_threads + 2 <= 8 * cores
+}
+
 /// Returns freed heap memory to the operating system (glibc's
 /// `malloc_trim`; nothing elsewhere) at the end of the build phase named
 /// `phase`.

@@ -24,6 +24,7 @@ use pbrt_parser::{Location as FileLoc, Warning};
 use rayon::prelude::*;
 use std::collections::HashMap;
 use std::path::Path;
+use std::sync::mpsc::SyncSender;
 
 /// One placement, its shapes being the next `shape_count` of its run's.
 pub struct PlacedShapes<'s> {
@@ -81,58 +82,91 @@ pub struct Context<'a> {
 /// which thus shrinks while the shapes grow instead of adding to them.
 pub fn create<'s>(placements: Vec<ShapePlacement>, context: &Context<'s>) -> Vec<Run<'s>> {
     // Several runs per thread balance runs whose shapes differ in cost.
-    let run_length = placements
-        .len()
-        .div_ceil(16 * rayon::current_num_threads())
-        .clamp(1, 4096);
-    let runs = placements
-        .into_par_iter()
-        .chunks(run_length)
-        .map(|run| {
-            let mut out = Run {
-                storage: ShapeStorage::default(),
-                placed: Vec::with_capacity(run.len()),
-                shapes: Vec::new(),
-                warnings: Vec::new(),
-                error: None,
-            };
-            reserve_for_curves(&run, &mut out);
-            let mut last_transform = LastTransform::default();
-            for placement in run {
-                let first_shape = out.shapes.len();
-                match place(
-                    placement,
-                    context,
-                    &mut out.storage,
-                    &mut out.warnings,
-                    &mut out.shapes,
-                    &mut last_transform,
-                ) {
-                    Ok(placed) => out.placed.push(placed),
-                    Err(e) => {
-                        // `shapes` holds the placed shapes' only.
-                        out.shapes.truncate(first_shape);
-                        out.error = Some(e);
-                        break;
-                    }
+    let threads = rayon::current_num_threads();
+    let run_length = placements.len().div_ceil(16 * threads).clamp(1, 4096);
+    let make_runs = |spent: Option<&SyncSender<Vec<ShapePlacement>>>| -> Vec<Run<'s>> {
+        placements
+            .into_par_iter()
+            .chunks(run_length)
+            .map(|run| {
+                let out = make_run(&run, context);
+                if let Some(spent) = spent {
+                    // Where the freeing thread is behind (or gone), the run
+                    // is freed here.
+                    let _ = spent.try_send(run);
                 }
-            }
-            // No trim per run: the freed descriptions go back once all
-            // runs are made (below). A trim per run (1 ms each, every
-            // arena locked meanwhile) once kept 230 MB off the 120 MB
-            // curve file's peak; with large blocks mapped on their own
-            // (`memory.rs`) the peak is the same without (893 MB, and the
-            // hair scenes' at 2 and 16 threads too) and the runs 0.1 s
-            // shorter.
-            out
+                out
+            })
+            .collect()
+    };
+    let runs = if threads > 1 && crate::memory::another_thread_gets_its_own_arena(threads) {
+        // The descriptions are freed on a thread of their own, one run
+        // after another. Freed on the threads making shapes, they were a
+        // third of that work (120 MB curve file: 1.2 million blocks, each
+        // allocated by the parser's thread, so every free locked its
+        // arena, and the threads freeing waited on each other). At most
+        // `FREED_BEHIND` runs wait for it; past that a run frees its own,
+        // so a freeing thread left behind (many threads on few cores) does
+        // not hold descriptions that would add to the peak.
+        std::thread::scope(|scope| {
+            let (spent, to_free) =
+                std::sync::mpsc::sync_channel::<Vec<ShapePlacement>>(FREED_BEHIND);
+            let freeing = std::thread::Builder::new()
+                .name("rpbrt-free".into())
+                .spawn_scoped(scope, move || to_free.into_iter().for_each(drop));
+            // A thread that could not be started: each run frees its own.
+            make_runs(freeing.is_ok().then_some(&spent))
         })
-        .collect();
-    // The descriptions freed meanwhile go back before the runs are
-    // appended, which copies their curve pieces into one array: else the
-    // freed pages, the runs and that array are all resident at once (the
+    } else {
+        make_runs(None)
+    };
+    // No trim per run: the freed descriptions go back once all runs are
+    // made (here). A trim per run (1 ms each, every arena locked
+    // meanwhile) once kept 230 MB off the 120 MB curve file's peak; with
+    // large blocks mapped on their own (`memory.rs`) the peak is the same
+    // without (893 MB, and the hair scenes' at 2 and 16 threads too) and
+    // the runs 0.1 s shorter. They go back before the runs are appended,
+    // which copies their curve pieces into one array: else the freed
+    // pages, the runs and that array are all resident at once (the
     // append's peak, 170 → 122 MB in hair-eumel-2-256).
     crate::memory::return_freed_memory("shapes made");
     runs
+}
+
+/// How many runs' descriptions may wait for the freeing thread.
+const FREED_BEHIND: usize = 4;
+
+/// The shapes of one run of placements.
+fn make_run<'s>(run: &[ShapePlacement], context: &Context<'s>) -> Run<'s> {
+    let mut out = Run {
+        storage: ShapeStorage::default(),
+        placed: Vec::with_capacity(run.len()),
+        shapes: Vec::new(),
+        warnings: Vec::new(),
+        error: None,
+    };
+    reserve_for_curves(run, &mut out);
+    let mut last_transform = LastTransform::default();
+    for placement in run {
+        let first_shape = out.shapes.len();
+        match place(
+            placement,
+            context,
+            &mut out.storage,
+            &mut out.warnings,
+            &mut out.shapes,
+            &mut last_transform,
+        ) {
+            Ok(placed) => out.placed.push(placed),
+            Err(e) => {
+                // `shapes` holds the placed shapes' only.
+                out.shapes.truncate(first_shape);
+                out.error = Some(e);
+                break;
+            }
+        }
+    }
+    out
 }
 
 /// A run's last placement's render-from-object and its curve facts: the
@@ -209,7 +243,7 @@ fn reserve_for_curves(run: &[ShapePlacement], out: &mut Run) {
 }
 
 fn place<'s>(
-    placement: ShapePlacement,
+    placement: &ShapePlacement,
     context: &Context<'s>,
     storage: &mut ShapeStorage,
     warnings: &mut Vec<Warning>,
@@ -242,7 +276,7 @@ fn place<'s>(
     let inside = context.media.get(shape.inside_medium.as_str()).copied();
     let outside = context.media.get(shape.outside_medium.as_str()).copied();
     placed.medium_interface = (inside != outside).then_some(MediumInterface { inside, outside });
-    let (render_from_object, curve_transform) = transforms.of(&placement, context);
+    let (render_from_object, curve_transform) = transforms.of(placement, context);
     placed.material = material_index(&shape.material, context.named_materials, loc)?;
     let material = &context.materials[placed.material as usize];
     // The ring is an outer cylinder around a fibre: on a surface the
@@ -344,6 +378,7 @@ mod tests {
     use crate::scene::build::{build, RenderOverrides};
     use std::fmt::Write as _;
     use std::path::Path;
+    use std::sync::mpsc::SyncSender;
 
     /// Each curve has its own transform's geometry, width and handedness,
     /// whether the transform is the previous curve's (computed once for
