@@ -15,11 +15,11 @@
 //! random curves, 4.8 million pieces). What differs from obvhs's code is
 //! how, not what: the cost table is kept from one part of a parallel
 //! build to the next (made afresh, it was faulted in page by page each
-//! time), and each node's children are given their slots by a branch-free
-//! search over 64 sortable keys instead of a branching scan of costs
-//! (the same greedy choice, ties broken alike).
+//! time), and each node's children are given their slots by vector
+//! minima over all 64 child-and-slot costs instead of a branching scan of
+//! them (the same greedy choice, ties broken alike).
 
-use glam::{UVec3, Vec3A};
+use glam::{BVec4A, UVec3, Vec3A, Vec4};
 use obvhs::bvh2::Bvh2;
 use obvhs::cwbvh::node::CwBvhNode;
 use obvhs::cwbvh::CwBvh;
@@ -298,38 +298,52 @@ const OCTANT_DIAGONALS: [Vec3A; 8] = [
 /// their direction from `center` suits, as obvhs does: greedily, the
 /// child and slot whose cost (the direction's dot product with the
 /// octant's diagonal) is least first, ties to the lower child then the
-/// lower slot. Each (cost, child, slot) is one integer key that orders as
-/// that comparison does, so each choice is a branch-free minimum.
+/// lower slot. Each child's eight costs are two four-lane vectors (slots
+/// 0–3, 4–7), so each choice is a vector minimum, then the first child
+/// and slot that hold it (the tie rule); a taken slot is ruled out in
+/// every child with one blend.
 fn order_by_direction(
     nodes: &[obvhs::bvh2::node::Bvh2Node],
     center: Vec3A,
     children: &mut [u32; 8],
     count: usize,
 ) {
-    const TAKEN: u64 = u64::MAX;
-    let mut keys = [TAKEN; 64];
+    // A pair already ruled out (its child or slot taken), or a cost
+    // obvhs never takes (at or above f32::MAX, its starting minimum: not
+    // infinities or NaN).
+    let taken = Vec4::splat(f32::INFINITY);
+    let mut low = [taken; BRANCHING];
+    let mut high = [taken; BRANCHING];
     for (c, &child) in children[..count].iter().enumerate() {
         let v = nodes[child as usize].aabb().center() - center;
-        for s in 0..8 {
-            let cost = OCTANT_DIAGONALS[s].dot(v);
-            // obvhs takes a cost only below f32::MAX (its starting
-            // minimum): not infinities or NaN.
-            if cost < f32::MAX {
-                keys[c * 8 + s] = (u64::from(sortable(cost)) << 32) | (c * 8 + s) as u64;
-            }
-        }
+        let cost = OCTANT_DIAGONALS.map(|diagonal| diagonal.dot(v));
+        let usable = |costs: Vec4| Vec4::select(costs.cmplt(Vec4::splat(f32::MAX)), costs, taken);
+        low[c] = usable(Vec4::from_slice(&cost[..4]));
+        high[c] = usable(Vec4::from_slice(&cost[4..]));
     }
     let mut slot_of = [usize::MAX; BRANCHING];
     for _ in 0..count {
-        let least = keys.iter().copied().fold(TAKEN, u64::min);
-        if least == TAKEN {
+        let least = low
+            .iter()
+            .chain(&high)
+            .fold(taken, |a, &b| a.min(b))
+            .min_element();
+        if least == f32::INFINITY {
             break;
         }
-        let (c, s) = ((least as usize >> 3) & 7, least as usize & 7);
+        let least = Vec4::splat(least);
+        let Some((c, s)) = (0..count).find_map(|c| {
+            let lanes = low[c].cmpeq(least).bitmask() | high[c].cmpeq(least).bitmask() << 4;
+            (lanes != 0).then(|| (c, lanes.trailing_zeros() as usize))
+        }) else {
+            break;
+        };
         slot_of[c] = s;
-        keys[c * 8..c * 8 + 8].fill(TAKEN);
-        for k in 0..8 {
-            keys[k * 8 + s] = TAKEN;
+        (low[c], high[c]) = (taken, taken);
+        let half = if s < 4 { &mut low } else { &mut high };
+        let lane = BVec4A::new(s % 4 == 0, s % 4 == 1, s % 4 == 2, s % 4 == 3);
+        for costs in half.iter_mut() {
+            *costs = Vec4::select(lane, taken, *costs);
         }
     }
     let original = std::mem::replace(children, [NONE; BRANCHING]);
@@ -342,17 +356,6 @@ fn order_by_direction(
             s => s,
         };
         children[slot] = child;
-    }
-}
-
-/// `x`'s bits as an integer that orders as `x` compares with `<` (−0 and
-/// +0 alike; no NaN here).
-fn sortable(x: f32) -> u32 {
-    let bits = (x + 0.0).to_bits();
-    if bits >> 31 == 1 {
-        !bits
-    } else {
-        bits | 1 << 31
     }
 }
 
@@ -414,16 +417,6 @@ mod tests {
                 let theirs = bvh2_to_cwbvh(&binary, max_per_leaf, true, false);
                 let ours = conversion.convert(&binary, max_per_leaf);
                 assert!(ours == theirs, "{n} boxes, {max_per_leaf} per leaf");
-            }
-        }
-    }
-
-    #[test]
-    fn sortable_bits_order_as_floats_compare() {
-        let values = [-f32::MAX, -1.5, -1e-30, -0.0, 0.0, 1e-30, 2.0, f32::MAX];
-        for a in values {
-            for b in values {
-                assert_eq!(a < b, sortable(a) < sortable(b), "{a} {b}");
             }
         }
     }
