@@ -9,6 +9,9 @@ use rpbrt::tools::{
 };
 use std::process::ExitCode;
 
+#[global_allocator]
+static ALLOCATOR: rpbrt::memory::HugePageAllocator = rpbrt::memory::HugePageAllocator;
+
 /// Renders pbrt-v4 scenes (pbrt-v3 scenes are read too): `rpbrt FILE
 /// [flags]`, as pbrt. The subcommands compare images and measure speed
 /// against error.
