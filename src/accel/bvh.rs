@@ -15,6 +15,7 @@ use obvhs::cwbvh::CwBvh;
 use obvhs::BvhBuildParams;
 use rayon::prelude::*;
 
+use super::child_test::{ChildTest, Portable};
 use super::parallel_build::{self, build_cwbvh_in_parts, Split};
 
 /// Primitive count above which the BVH is built for build speed.
@@ -161,10 +162,11 @@ impl Bvh {
         t_max: f32,
         intersect: impl FnMut(usize, f32) -> Option<f32>,
     ) -> Option<(usize, f32)> {
-        self.closest_hit_prefetching(ray, t_max, |_| {}, intersect)
+        self.closest_hit_prefetching(ray, t_max, Portable, |_| {}, intersect)
     }
 
-    /// As [`Bvh::closest_hit`], calling `prefetch(i)` for every primitive
+    /// As [`Bvh::closest_hit`], testing nodes with `children`, and calling
+    /// `prefetch(i)` for every primitive
     /// of a leaf the ray enters as soon as its node is tested, before any
     /// of them is intersected: the caller can start loading what
     /// `intersect(i, ..)` will read, so that the leaves' cache misses
@@ -178,6 +180,7 @@ impl Bvh {
         &self,
         ray: &Ray,
         t_max: f32,
+        children: impl ChildTest,
         prefetch: impl Fn(usize),
         mut intersect: impl FnMut(usize, f32) -> Option<f32>,
     ) -> Option<(usize, f32)> {
@@ -190,7 +193,7 @@ impl Bvh {
             tree,
             node,
             state,
-            self.test_node(node, &traverse_ray, state.oct_inv4, &prefetch),
+            self.test_node(node, &traverse_ray, state.oct_inv4, children, &prefetch),
             {
                 let i = self.first + state.primitive_id as usize;
                 if let Some(t) = intersect(i, traverse_ray.tmax) {
@@ -207,16 +210,17 @@ impl Bvh {
     /// Whether any primitive is hit before `t_max`.
     #[inline(always)]
     pub fn any_hit(&self, ray: &Ray, t_max: f32, hits: impl FnMut(usize, f32) -> bool) -> bool {
-        self.any_hit_prefetching(ray, t_max, |_| {}, hits)
+        self.any_hit_prefetching(ray, t_max, Portable, |_| {}, hits)
     }
 
-    /// As [`Bvh::any_hit`], with `prefetch` as in
+    /// As [`Bvh::any_hit`], with `children` and `prefetch` as in
     /// [`Bvh::closest_hit_prefetching`].
     #[inline(always)]
     pub fn any_hit_prefetching(
         &self,
         ray: &Ray,
         t_max: f32,
+        children: impl ChildTest,
         prefetch: impl Fn(usize),
         mut hits: impl FnMut(usize, f32) -> bool,
     ) -> bool {
@@ -230,7 +234,7 @@ impl Bvh {
             tree,
             node,
             state,
-            self.test_node(node, &traverse_ray, state.oct_inv4, &prefetch),
+            self.test_node(node, &traverse_ray, state.oct_inv4, children, &prefetch),
             {
                 if hits(self.first + state.primitive_id as usize, t_max) {
                     return true;
@@ -249,9 +253,10 @@ impl Bvh {
         node: &CwBvhNode,
         ray: &obvhs::ray::Ray,
         oct_inv4: u32,
+        children: impl ChildTest,
         prefetch: &impl Fn(usize),
     ) -> u32 {
-        let hit_mask = node.intersect_ray(ray, oct_inv4);
+        let hit_mask = children.hits(node, ray, oct_inv4);
         let mut leaves = hit_mask & 0x00ff_ffff;
         while leaves != 0 {
             prefetch(self.first + (node.primitive_base_idx + leaves.trailing_zeros()) as usize);

@@ -1,6 +1,7 @@
 //! Acceleration structures.
 
 pub mod bvh;
+pub mod child_test;
 pub mod instance;
 pub mod instruction_set;
 pub mod parallel_build;

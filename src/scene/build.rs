@@ -5,6 +5,9 @@
 use super::alpha;
 use super::placed_shapes;
 use crate::accel::bvh::{build_box, BuildBox};
+#[cfg(target_arch = "x86_64")]
+use crate::accel::child_test::Avx2;
+use crate::accel::child_test::{ChildTest, Portable};
 use crate::accel::instance::{build_levels, InstanceAccel};
 use crate::accel::{Bvh, InstructionSet};
 use crate::cameras::Camera;
@@ -170,10 +173,11 @@ impl BuiltScene {
             // SAFETY: `detect` found every feature the copy is compiled for.
             return unsafe { self.intersect_bvh_x86_64_v3(bvh, ray, t_max) };
         }
-        self.intersect_bvh_inlined(bvh, ray, t_max)
+        self.intersect_bvh_inlined(bvh, ray, t_max, Portable)
     }
 
-    /// [`Self::intersect_bvh`] compiled for x86-64-v3.
+    /// [`Self::intersect_bvh`] compiled for x86-64-v3, testing nodes eight
+    /// children at a time.
     ///
     /// # Safety
     /// The processor must have the features named (`InstructionSet::detect`).
@@ -185,7 +189,9 @@ impl BuiltScene {
         ray: &Ray,
         t_max: f32,
     ) -> Option<SurfaceInteraction> {
-        self.intersect_bvh_inlined(bvh, ray, t_max)
+        // SAFETY: the caller's contract: the processor has the features.
+        let children = unsafe { Avx2::new_unchecked() };
+        self.intersect_bvh_inlined(bvh, ray, t_max, children)
     }
 
     /// Inlined into each copy, and with it the traversal.
@@ -195,6 +201,7 @@ impl BuiltScene {
         bvh: &Bvh,
         ray: &Ray,
         t_max: f32,
+        children: impl ChildTest,
     ) -> Option<SurfaceInteraction> {
         enum Best {
             Full(SurfaceInteraction, usize),
@@ -221,9 +228,9 @@ impl BuiltScene {
             Some(t)
         };
         if self.has_curves() {
-            bvh.closest_hit_prefetching(ray, t_max, |i| self.prefetch(i), test)?;
+            bvh.closest_hit_prefetching(ray, t_max, children, |i| self.prefetch(i), test)?;
         } else {
-            bvh.closest_hit(ray, t_max, test)?;
+            bvh.closest_hit_prefetching(ray, t_max, children, |_| {}, test)?;
         }
         let (mut si, i) = match best? {
             Best::Full(si, i) => (si, i),
@@ -266,22 +273,31 @@ impl BuiltScene {
             // SAFETY: `detect` found every feature the copy is compiled for.
             return unsafe { self.intersect_p_bvh_x86_64_v3(bvh, ray, t_max) };
         }
-        self.intersect_p_bvh_inlined(bvh, ray, t_max)
+        self.intersect_p_bvh_inlined(bvh, ray, t_max, Portable)
     }
 
-    /// [`Self::intersect_p_bvh`] compiled for x86-64-v3.
+    /// [`Self::intersect_p_bvh`] compiled for x86-64-v3, testing nodes
+    /// eight children at a time.
     ///
     /// # Safety
     /// The processor must have the features named (`InstructionSet::detect`).
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx,avx2,fma,bmi1,bmi2,lzcnt,popcnt,sse3,ssse3,sse4.1,sse4.2")]
     unsafe fn intersect_p_bvh_x86_64_v3(&self, bvh: &Bvh, ray: &Ray, t_max: f32) -> bool {
-        self.intersect_p_bvh_inlined(bvh, ray, t_max)
+        // SAFETY: the caller's contract: the processor has the features.
+        let children = unsafe { Avx2::new_unchecked() };
+        self.intersect_p_bvh_inlined(bvh, ray, t_max, children)
     }
 
     /// Inlined into each copy, and with it the traversal.
     #[inline(always)]
-    fn intersect_p_bvh_inlined(&self, bvh: &Bvh, ray: &Ray, t_max: f32) -> bool {
+    fn intersect_p_bvh_inlined(
+        &self,
+        bvh: &Bvh,
+        ray: &Ray,
+        t_max: f32,
+        children: impl ChildTest,
+    ) -> bool {
         let frame = crate::shapes::curve::RayFrame::new(ray);
         let test = |i, t_max| {
             if let (Some(c), Some(frame)) = (self.curve_without_alpha(i), &frame) {
@@ -295,9 +311,9 @@ impl BuiltScene {
             }
         };
         if self.has_curves() {
-            bvh.any_hit_prefetching(ray, t_max, |i| self.prefetch(i), test)
+            bvh.any_hit_prefetching(ray, t_max, children, |i| self.prefetch(i), test)
         } else {
-            bvh.any_hit(ray, t_max, test)
+            bvh.any_hit_prefetching(ray, t_max, children, |_| {}, test)
         }
     }
 

@@ -378,7 +378,6 @@ mod tests {
     use crate::scene::build::{build, RenderOverrides};
     use std::fmt::Write as _;
     use std::path::Path;
-    use std::sync::mpsc::SyncSender;
 
     /// Each curve has its own transform's geometry, width and handedness,
     /// whether the transform is the previous curve's (computed once for
