@@ -77,8 +77,8 @@ pub struct Context<'a> {
 /// Makes the shapes of `placements` in runs, in parallel; the runs come
 /// back in order.
 ///
-/// Each placement's shape description is dropped as soon as its shapes
-/// are made: for a hair scene it is most of the description's memory,
+/// Each run's shape descriptions are dropped as soon as its shapes are
+/// made: for a hair scene they are most of the description's memory,
 /// which thus shrinks while the shapes grow instead of adding to them.
 pub fn create<'s>(placements: Vec<ShapePlacement>, context: &Context<'s>) -> Vec<Run<'s>> {
     // Several runs per thread balance runs whose shapes differ in cost.
