@@ -25,6 +25,7 @@ use obvhs::cwbvh::CwBvh;
 use obvhs::ploc::PlocBuilder;
 use obvhs::BvhBuildParams;
 use rayon::prelude::*;
+use std::ops::Range;
 use std::sync::Mutex;
 
 /// Number of groups: one CWBVH node's children.
@@ -65,9 +66,14 @@ pub fn build_cwbvh_in_parts(
         // obvhs reports its core build time; unused here.
         return build_cwbvh(aabbs, params, &mut std::time::Duration::default());
     }
-    let mut group = Member::all(aabbs);
-    let workspaces = Workspaces::default();
-    build_group(aabbs, &mut group, params, part_size, split, &workspaces)
+    // All the splits first, then the parts: the members (16 bytes each,
+    // with their centroids) are freed before any part's tree is built, and
+    // the builds need only the box indices (4 bytes each).
+    let mut members = Member::all(aabbs);
+    let plan = plan_groups(aabbs, &mut members, 0, part_size, split);
+    let indices: Vec<u32> = members.par_iter().map(|m| m.index).collect();
+    drop(members);
+    build_planned(aabbs, &indices, &plan, params, &Workspaces::default())
 }
 
 /// obvhs's working arrays for one part's tree, kept for the next part:
@@ -87,10 +93,9 @@ struct PartWorkspace {
 impl PartWorkspace {
     /// What obvhs's `build_cwbvh` makes of `group`'s boxes (the same tree:
     /// PLOC, reinsertion, conversion), with its indices into `aabbs`.
-    fn build(&mut self, aabbs: &[Aabb], group: &[Member], params: BvhBuildParams) -> CwBvh {
+    fn build(&mut self, aabbs: &[Aabb], group: &[u32], params: BvhBuildParams) -> CwBvh {
         self.boxes.clear();
-        self.boxes
-            .extend(group.iter().map(|m| aabbs[m.index as usize]));
+        self.boxes.extend(group.iter().map(|&i| aabbs[i as usize]));
         self.clustering.build_with_bvh(
             &mut self.binary_tree,
             params.ploc_search_distance,
@@ -104,7 +109,7 @@ impl PartWorkspace {
         let max_per_leaf = params.max_prims_per_leaf.clamp(1, 3);
         let mut tree = self.conversion.convert(&self.binary_tree, max_per_leaf);
         for index in &mut tree.primitive_indices {
-            *index = group[*index as usize].index;
+            *index = group[*index as usize];
         }
         tree
     }
@@ -124,7 +129,7 @@ const REUSED_FROM: usize = 1 << 12;
 struct Workspaces(Mutex<Vec<PartWorkspace>>);
 
 impl Workspaces {
-    fn build(&self, aabbs: &[Aabb], group: &[Member], params: BvhBuildParams) -> CwBvh {
+    fn build(&self, aabbs: &[Aabb], group: &[u32], params: BvhBuildParams) -> CwBvh {
         let taken = self.idle().pop();
         let mut workspace = taken.unwrap_or_default();
         let tree = workspace.build(aabbs, group, params);
@@ -187,31 +192,69 @@ fn ordered_bits(x: f32) -> u32 {
     }
 }
 
-/// The tree over the primitives `group` of `aabbs` (its
-/// `primitive_indices` are indices of `aabbs`). The groups are lists of
-/// members of the one array of boxes: only a part built whole copies its
-/// boxes, so the parts in progress, one per core, are all the build adds.
-fn build_group(
+/// How a group of members is built: whole, or as eight groups whose trees
+/// hang from one root. Each holds its range of the members.
+enum Plan {
+    Whole(Range<usize>),
+    Parts(Range<usize>, Vec<Plan>),
+}
+
+/// Splits `group` (the members from `first` on) into groups, and those
+/// again, until each has fewer than `part_size`; returns how they are to
+/// be built.
+fn plan_groups(
     aabbs: &[Aabb],
     group: &mut [Member],
-    params: BvhBuildParams,
+    first: usize,
     part_size: usize,
     split: Split,
+) -> Plan {
+    let range = first..first + group.len();
+    if group.len() < part_size.max(GROUPS) {
+        return Plan::Whole(range);
+    }
+    // The groups are consecutive stretches of `group`, in order.
+    let mut start = first;
+    let parts: Vec<(usize, &mut [Member])> = split_into_groups(group, aabbs, split, GROUPS)
+        .into_iter()
+        .map(|part| {
+            start += part.len();
+            (start - part.len(), part)
+        })
+        .collect();
+    let plans = parts
+        .into_par_iter()
+        .map(|(first, part)| plan_groups(aabbs, part, first, part_size, split))
+        .collect();
+    Plan::Parts(range, plans)
+}
+
+/// The tree `plan` says over the boxes `indices` of `aabbs` (its
+/// `primitive_indices` are indices of `aabbs`). Only a part built whole
+/// copies its boxes, so the parts in progress, one per core, are all the
+/// build adds.
+fn build_planned(
+    aabbs: &[Aabb],
+    indices: &[u32],
+    plan: &Plan,
+    params: BvhBuildParams,
     workspaces: &Workspaces,
 ) -> CwBvh {
-    if group.len() < part_size.max(GROUPS) {
-        return workspaces.build(aabbs, group, params);
-    }
-    let parts: Vec<CwBvh> = split_into_groups(group, aabbs, split, GROUPS)
-        .into_par_iter()
-        .map(|part| build_group(aabbs, part, params, part_size, split, workspaces))
+    let (range, plans) = match plan {
+        Plan::Whole(range) => return workspaces.build(aabbs, &indices[range.clone()], params),
+        Plan::Parts(range, plans) => (range, plans),
+    };
+    let parts: Vec<CwBvh> = plans
+        .par_iter()
+        .map(|part| build_planned(aabbs, indices, part, params, workspaces))
         .collect();
-    if group.len() == aabbs.len() {
+    if range.len() == indices.len() {
         // Every part is built: the workspaces (a few MB each, one per
         // thread) go before the joined tree comes.
         workspaces.free();
     }
-    join_under_root(parts).unwrap_or_else(|| workspaces.build(aabbs, group, params))
+    join_under_root(parts)
+        .unwrap_or_else(|| workspaces.build(aabbs, &indices[range.clone()], params))
 }
 
 /// Splits `members` into `count` (a power of two) groups by halving each
