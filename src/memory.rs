@@ -52,6 +52,14 @@ pub struct HugePageAllocator;
 /// backs the aligned huge pages inside them.
 const ADVISED_FROM: usize = 2 << 20;
 
+/// `block` (of `size` bytes, or null), its pages advised when it is large.
+fn advised(block: *mut u8, size: usize) -> *mut u8 {
+    if !block.is_null() && size >= ADVISED_FROM {
+        advise_huge_pages(block, size);
+    }
+    block
+}
+
 /// Advises the pages of `size` bytes from `block`.
 fn advise_huge_pages(block: *mut u8, size: usize) {
     #[cfg(target_os = "linux")]
@@ -76,20 +84,12 @@ fn advise_huge_pages(block: *mut u8, size: usize) {
 unsafe impl GlobalAlloc for HugePageAllocator {
     unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
         // SAFETY: the caller's contract, passed on.
-        let block = unsafe { System.alloc(layout) };
-        if !block.is_null() && layout.size() >= ADVISED_FROM {
-            advise_huge_pages(block, layout.size());
-        }
-        block
+        advised(unsafe { System.alloc(layout) }, layout.size())
     }
 
     unsafe fn alloc_zeroed(&self, layout: Layout) -> *mut u8 {
         // SAFETY: the caller's contract, passed on.
-        let block = unsafe { System.alloc_zeroed(layout) };
-        if !block.is_null() && layout.size() >= ADVISED_FROM {
-            advise_huge_pages(block, layout.size());
-        }
-        block
+        advised(unsafe { System.alloc_zeroed(layout) }, layout.size())
     }
 
     unsafe fn dealloc(&self, block: *mut u8, layout: Layout) {
