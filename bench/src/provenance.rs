@@ -49,6 +49,15 @@ pub fn commit() -> String {
     }
 }
 
+/// How this executable was built: `scripts/pgo-build.sh` sets
+/// `RPBRT_PGO` for its profile-guided build.
+pub fn build_kind() -> &'static str {
+    match option_env!("RPBRT_PGO") {
+        Some(_) => "profile-guided release build, scripts/pgo-build.sh",
+        None => "`cargo build --release`, without profile guidance",
+    }
+}
+
 /// Today's date (UTC), `YYYY-MM-DD`, from the system clock (days to civil
 /// date: Hinnant's algorithm).
 pub fn today() -> String {

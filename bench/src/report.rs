@@ -16,7 +16,7 @@ use crate::convergence::{self, curve, time_at_error, Measurement, Renderer, Run}
 use crate::dual_overhead;
 use crate::error::{io_error, Error};
 use crate::executable::rpbrt_executable;
-use crate::provenance::{commit, machine, median, today};
+use crate::provenance::{build_kind, commit, machine, median, today};
 use crate::steal::time_without_steal;
 use crate::template::Template;
 use rpbrt::image::Image;
@@ -474,6 +474,7 @@ fn markdown(
             ("date", &today()),
             ("machine", &machine()),
             ("commit", &commit()),
+            ("build", &build_kind()),
             ("threads", &args.nthreads),
             ("seeds", &args.repeat.max(1)),
             ("trial", &trial),
