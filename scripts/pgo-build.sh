@@ -101,7 +101,11 @@ for scene in hair-strands hair-dual hair-dual-circular spheres; do
 done
 
 echo "pgo-build: 3/4 merging"
-"$profdata" merge -o "$pgo/merged.profdata" "$profiles"
+if ! "$profdata" merge -o "$pgo/merged.profdata" "$profiles"; then
+    echo "pgo-build: $profdata could not read rustc's profiles (rustc's LLVM is" \
+        "$(rustc -vV | sed -n 's/^LLVM version: //p')): set LLVM_PROFDATA to a newer llvm-profdata" >&2
+    exit 1
+fi
 
 echo "pgo-build: 4/4 optimised build"
 RPBRT_PGO=1 RUSTFLAGS="-Cprofile-use=$pgo/merged.profdata" \
