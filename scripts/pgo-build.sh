@@ -3,8 +3,8 @@
 # rpbrt-bench built once with instrumentation, run on a training set made
 # here (no ../shared needed), then built again with the branch and call
 # counts of those runs. Same code and arithmetic as `cargo build --release`
-# (the images are byte-identical); hair renders 5–9 % faster on the
-# developers' machines (docs/performance-notes.md, "Session 26").
+# (the images are byte-identical); the shared hair scenes render with
+# 6–9 % less CPU time on the developers' machines (docs/performance-notes.md, "Session 26").
 #
 # Usage: scripts/pgo-build.sh   → target/pgo/use/release/{rpbrt,rpbrt-bench}
 #
@@ -56,11 +56,12 @@ sed -e 's/^Camera .*/Camera "spherical" "string mapping" "equalarea"/' \
     -e 's/"integer xresolution" \[ *[0-9]* *\]/"integer xresolution" [ 128 ]/' \
     -e 's/"integer yresolution" \[ *[0-9]* *\]/"integer yresolution" [ 128 ]/' \
     pbrt-scenes/spheres.pbrt >"$train/sky.pbrt"
-(cd "$root/pbrt-scenes" && "$rpbrt" --quiet --spp 16 --outfile "$train/sky.exr" "$train/sky.pbrt")
+(cd pbrt-scenes && "$rpbrt" --quiet --spp 16 --outfile "$train/sky.exr" "$train/sky.pbrt")
 
 # A ball of hair: random cubic curves wound round a sphere, lit by that
 # map, rendered as the shared hair scenes are (volpath, halton, dark
-# and light hair, long and short paths); a few megabytes of curves for the parser and build.
+# and light hair, long and short paths); a few megabytes of curves for
+# the parser and build.
 awk 'BEGIN {
     srand(26);
     for (i = 0; i < 24000; i++) {
