@@ -109,8 +109,9 @@ unsafe fn hits_avx2(node: &CwBvhNode, ray: &Ray, oct_inv4: u32) -> u32 {
     let (near_x, far_x) = planes(ray.direction.x < 0.0, &node.child_min_x, &node.child_max_x);
     let (near_y, far_y) = planes(ray.direction.y < 0.0, &node.child_min_y, &node.child_max_y);
     let (near_z, far_z) = planes(ray.direction.z < 0.0, &node.child_min_z, &node.child_max_z);
+    let (child_bits, bit_index) = node.get_child_and_index_bits(oct_inv4);
     // SAFETY: register operations this function's features provide.
-    let entered = unsafe {
+    unsafe {
         // A multiply, then an add: obvhs's arithmetic (no fused form).
         let distance = |bytes: &[u8; 8], scale: f32, offset: f32| {
             _mm256_add_ps(
@@ -129,17 +130,25 @@ unsafe fn hits_avx2(node: &CwBvhNode, ray: &Ray, oct_inv4: u32) -> u32 {
         let t_far = _mm256_min_ps(t_far_x, _mm256_min_ps(t_far_y, t_far_z));
         let t_near = _mm256_max_ps(t_near, _mm256_set1_ps(NEAREST));
         let t_far = _mm256_min_ps(t_far, _mm256_set1_ps(ray.tmax));
-        _mm256_movemask_ps(_mm256_cmp_ps::<_CMP_LE_OS>(t_near, t_far)) as u32
-    };
-    let (child_bits, bit_index) = node.get_child_and_index_bits(oct_inv4);
-    let mut hit_mask = 0;
-    let mut children = entered;
-    while children != 0 {
-        let shift = 8 * children.trailing_zeros();
-        hit_mask |= ((child_bits >> shift) as u32 & 0xff) << ((bit_index >> shift) as u32 & 0xff);
-        children &= children - 1;
+        let entered = _mm256_castps_si256(_mm256_cmp_ps::<_CMP_LE_OS>(t_near, t_far));
+        // Each entered child's bits (byte k of `child_bits`) moved to its
+        // place in the mask (byte k of `bit_index`, below 32), all eight
+        // lanes at once and ORed together: obvhs loops over the entered
+        // children instead, a loop whose count the processor mispredicts
+        // (a quarter of the closest-hit query's mispredicted branches).
+        let bytes = |eight: u64| _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(eight as i64));
+        let placed = _mm256_and_si256(
+            _mm256_sllv_epi32(bytes(child_bits), bytes(bit_index)),
+            entered,
+        );
+        let four = _mm_or_si128(
+            _mm256_castsi256_si128(placed),
+            _mm256_extracti128_si256::<1>(placed),
+        );
+        let two = _mm_or_si128(four, _mm_unpackhi_epi64(four, four));
+        let one = _mm_or_si128(two, _mm_shuffle_epi32::<0b01>(two));
+        _mm_cvtsi128_si32(one) as u32
     }
-    hit_mask
 }
 
 #[cfg(test)]

@@ -216,15 +216,8 @@ impl BuiltScene {
                 best = Some(Best::Curve(hit, c, i));
                 return Some(hit.t);
             }
-            let prim = &self.primitives[i];
-            if let Some(alpha) = prim.alpha() {
-                let (si, t) = self.intersect_cut_out(prim, alpha, ray, t_max)?;
-                best = Some(Best::Full(si, i));
-                return Some(t);
-            }
-            let hit = prim.shape.intersect(&self.shapes, ray, t_max)?;
-            let t = hit.t_hit;
-            best = Some(Best::Full(hit.interaction, i));
+            let (si, t) = self.intersect_primitive(i, ray, t_max)?;
+            best = Some(Best::Full(si, i));
             Some(t)
         };
         if self.has_curves() {
@@ -238,6 +231,25 @@ impl BuiltScene {
         };
         si.primitive = i as u32;
         Some(si)
+    }
+
+    /// The hit of `ray` with primitive `i` before `t_max`, and its t: the
+    /// closest-hit query's test of anything but a curve without alpha,
+    /// kept out of line so that the curve test, most of a hair scene's,
+    /// is inlined into the traversal.
+    #[inline(never)]
+    fn intersect_primitive(
+        &self,
+        i: usize,
+        ray: &Ray,
+        t_max: f32,
+    ) -> Option<(SurfaceInteraction, f32)> {
+        let prim = &self.primitives[i];
+        if let Some(alpha) = prim.alpha() {
+            return self.intersect_cut_out(prim, alpha, ray, t_max);
+        }
+        let hit = prim.shape.intersect(&self.shapes, ray, t_max)?;
+        Some((hit.interaction, hit.t_hit))
     }
 
     /// The first surface between a surface point and a light point (both

@@ -385,7 +385,8 @@ impl Shape {
             // Curves are never area lights; this is only an estimate.
             Shape::Curve(c) => {
                 let (piece, segment) = storage.curve(*c);
-                (piece.cp[3] - piece.cp[0]).length() * segment.width_at(0.5 * (piece.u0 + piece.u1))
+                let cp = piece.control_points();
+                (cp[3] - cp[0]).length() * segment.width_at(0.5 * (piece.u0 + piece.u1))
             }
         }
     }

@@ -36,7 +36,7 @@ use crate::error::{scene_error, Result};
 use crate::interaction::SurfaceInteraction;
 use crate::math::{Bounds3, Ray, Transform};
 use crate::scene_description::{self, ParamSet};
-use glam::{DVec3, Vec2, Vec3};
+use glam::{DVec3, Vec2, Vec3, Vec4};
 use pbrt_parser::{Location, Values};
 use splines::{
     blossom_piece, cubic_bspline_to_bezier, elevate_quadratic_bezier, evaluate_bezier,
@@ -88,8 +88,12 @@ pub struct CurveSegment {
 #[derive(Clone, Copy, Debug)]
 #[repr(C, align(64))]
 pub struct CurvePiece {
-    /// The piece's own Bézier control points (blossomed).
-    pub cp: [Vec3; 4],
+    /// The piece's own Bézier control points (blossomed), one coordinate
+    /// per array (element k: point k), so that a ray projects all four at
+    /// once ([`RayFrame::project_four`]).
+    x: [f32; 4],
+    y: [f32; 4],
+    z: [f32; 4],
     pub u0: f32,
     pub u1: f32,
     /// Half the largest width over [u0, u1] (kept in step with the
@@ -155,7 +159,9 @@ impl CurvePiece {
     ) -> Self {
         debug_assert!((segment as usize) <= MAX_SEGMENTS && refine_depth < 16);
         CurvePiece {
-            cp,
+            x: cp.map(|p| p.x),
+            y: cp.map(|p| p.y),
+            z: cp.map(|p| p.z),
             u0,
             u1,
             half_width: 0.5 * width[0].max(width[1]),
@@ -168,7 +174,9 @@ impl CurvePiece {
     /// (see `BuiltScene`), and [`CurvePiece::is_placeholder`] tells it.
     pub fn placeholder() -> Self {
         CurvePiece {
-            cp: [Vec3::ZERO; 4],
+            x: [0.0; 4],
+            y: [0.0; 4],
+            z: [0.0; 4],
             u0: 0.0,
             u1: 0.0,
             half_width: 0.0,
@@ -178,6 +186,11 @@ impl CurvePiece {
 
     pub fn is_placeholder(&self) -> bool {
         self.segment_and_depth == PLACEHOLDER
+    }
+
+    /// The piece's Bézier control points.
+    pub fn control_points(&self) -> [Vec3; 4] {
+        std::array::from_fn(|k| Vec3::new(self.x[k], self.y[k], self.z[k]))
     }
 
     /// Index of the segment in the scene's curve segments.
@@ -207,7 +220,7 @@ impl CurvePiece {
 
     /// Bounds: the control points' box grown by half the largest width.
     pub fn bounds(&self) -> Bounds3 {
-        let b = Bounds3::from_points(self.cp);
+        let b = Bounds3::from_points(self.control_points());
         Bounds3 {
             min: b.min - Vec3::splat(self.half_width),
             max: b.max + Vec3::splat(self.half_width),
@@ -221,6 +234,12 @@ impl CurvePiece {
     }
 
     /// The same, with the ray's frame computed once for all pieces.
+    ///
+    /// Always inlined: most pieces a ray reaches fail the hull test, which
+    /// is then compiled into each copy of the scene's ray queries (with
+    /// AVX2 in the x86-64-v3 one) and the frame's broadcasts can be hoisted
+    /// out of the traversal loop; the rest is one call.
+    #[inline(always)]
     pub fn intersect_in(
         &self,
         segment: &CurveSegment,
@@ -229,15 +248,33 @@ impl CurvePiece {
     ) -> Option<CurveHit> {
         // The control polygon's hull (which contains a Bézier curve) first:
         // most pieces a ray reaches are rejected without reading `segment`.
-        // Written out: `array::map` goes through a closure wrapper that
-        // LLVM sometimes leaves uninlined here (5 % of a hair render).
-        let c = [
-            frame.project(self.cp[0]),
-            frame.project(self.cp[1]),
-            frame.project(self.cp[2]),
-            frame.project(self.cp[3]),
-        ];
-        if !may_hit(&c, self.half_width, frame.length * t_max) {
+        // Four points at a time, each coordinate as the one-point projection
+        // and `hull_may_hit` compute it (the same products and sums in the
+        // same order), so the same pieces pass.
+        let projected = frame.project_four(
+            Vec4::from_array(self.x),
+            Vec4::from_array(self.y),
+            Vec4::from_array(self.z),
+        );
+        if !hull_may_hit_four(projected, self.half_width, frame.length * t_max) {
+            return None;
+        }
+        self.intersect_within_hull(segment, frame, t_max, projected)
+    }
+
+    /// [`Self::intersect_in`] past the hull test, from the control points
+    /// in the ray's frame (by coordinate).
+    #[inline(never)]
+    fn intersect_within_hull(
+        &self,
+        segment: &CurveSegment,
+        frame: &RayFrame,
+        t_max: f32,
+        [x, y, z]: [Vec4; 3],
+    ) -> Option<CurveHit> {
+        let (x, y, z) = (x.to_array(), y.to_array(), z.to_array());
+        let c: [Vec3; 4] = std::array::from_fn(|k| Vec3::new(x[k], y[k], z[k]));
+        if !band_may_hit(&c, self.half_width) {
             return None;
         }
         intersect_projected(
@@ -274,6 +311,20 @@ fn hull_may_hit(c: &[Vec3; 4], half_width: f32, z_max: f32) -> bool {
         && hi.y >= -half_width
         && hi.z >= 0.0
         && lo.z <= z_max
+}
+
+/// [`hull_may_hit`] for control points given by coordinate (lane k: point
+/// k). min(x) ≤ w exactly when some x ≤ w, and so on: no horizontal minima
+/// or maxima, one mask per bound.
+#[inline(always)]
+fn hull_may_hit_four([x, y, z]: [Vec4; 3], half_width: f32, z_max: f32) -> bool {
+    let half_width = Vec4::splat(half_width);
+    x.cmple(half_width).any()
+        && x.cmpge(-half_width).any()
+        && y.cmple(half_width).any()
+        && y.cmpge(-half_width).any()
+        && z.cmpge(Vec4::ZERO).any()
+        && z.cmple(Vec4::splat(z_max)).any()
 }
 
 /// Whether the ray (x = y = 0) comes within `half_width` of the band the
@@ -420,10 +471,25 @@ impl RayFrame {
         })
     }
 
-    #[inline]
+    #[cfg(test)]
     fn project(&self, p: Vec3) -> Vec3 {
         let q = p - self.origin;
         Vec3::new(q.dot(self.ex), q.dot(self.ey), q.dot(self.dz))
+    }
+
+    /// [`Self::project`] of four points given by coordinate (lane k: point
+    /// k), with the same arithmetic per lane.
+    #[inline]
+    fn project_four(&self, x: Vec4, y: Vec4, z: Vec4) -> [Vec4; 3] {
+        let q = [
+            x - Vec4::splat(self.origin.x),
+            y - Vec4::splat(self.origin.y),
+            z - Vec4::splat(self.origin.z),
+        ];
+        let dot = |axis: Vec3| {
+            q[0] * Vec4::splat(axis.x) + q[1] * Vec4::splat(axis.y) + q[2] * Vec4::splat(axis.z)
+        };
+        [dot(self.ex), dot(self.ey), dot(self.dz)]
     }
 }
 
@@ -991,6 +1057,55 @@ mod tests {
         assert!(
             band_rejects * 2 > box_passes,
             "{band_rejects} of {box_passes} box passes rejected"
+        );
+    }
+
+    /// A piece's four-lane projection and hull test give the one-point
+    /// projection's coordinates and `hull_may_hit`'s answer bit for bit
+    /// (random pieces, rays from near and far, depths cutting through the
+    /// hulls): the same pieces pass, so images do not change. Summing a
+    /// dot product in another order fails it.
+    #[test]
+    fn four_lane_hull_test_matches_the_one_point_test() {
+        let mut rng = super::super::test_support::TestRng::new(11);
+        let (mut passed, mut cases) = (0, 0);
+        for case in 0..60_000 {
+            let scale = [1e-3, 1.0, 100.0][case % 3];
+            let cp: [Vec3; 4] = std::array::from_fn(|_| {
+                Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)) * scale
+            });
+            let half_width = 0.2 * scale * rng.uniform();
+            let piece = CurvePiece::new(0, 0.0, 1.0, cp, 0, [2.0 * half_width; 2]);
+            let origin = rng.direction() * scale * rng.range(0.5, 4.0);
+            // Towards the piece, give or take, with a direction of any length.
+            let target = cp[case % 4] + rng.direction() * half_width * 2.0;
+            let direction = (target - origin) * rng.range(0.01, 100.0);
+            let Some(frame) = RayFrame::new(&Ray::new(origin, direction, 0.0)) else {
+                continue;
+            };
+            let one_point = piece.control_points().map(|p| frame.project(p));
+            let lanes = frame.project_four(
+                Vec4::from_array(piece.x),
+                Vec4::from_array(piece.y),
+                Vec4::from_array(piece.z),
+            );
+            for k in 0..4 {
+                let lane = Vec3::new(lanes[0][k], lanes[1][k], lanes[2][k]);
+                assert_eq!(
+                    lane.to_array().map(f32::to_bits),
+                    one_point[k].to_array().map(f32::to_bits),
+                    "case {case}, point {k}"
+                );
+            }
+            let z_max = frame.length * rng.range(0.0, 1.5);
+            let hit = hull_may_hit(&one_point, half_width, z_max);
+            assert_eq!(hull_may_hit_four(lanes, half_width, z_max), hit, "case {case}");
+            passed += usize::from(hit);
+            cases += 1;
+        }
+        assert!(
+            passed > cases / 10 && passed < cases * 9 / 10,
+            "{passed} of {cases} passed"
         );
     }
 
