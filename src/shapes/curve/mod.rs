@@ -1072,7 +1072,11 @@ mod tests {
         for case in 0..60_000 {
             let scale = [1e-3, 1.0, 100.0][case % 3];
             let cp: [Vec3; 4] = std::array::from_fn(|_| {
-                Vec3::new(rng.range(-1.0, 1.0), rng.range(-1.0, 1.0), rng.range(-1.0, 1.0)) * scale
+                Vec3::new(
+                    rng.range(-1.0, 1.0),
+                    rng.range(-1.0, 1.0),
+                    rng.range(-1.0, 1.0),
+                ) * scale
             });
             let half_width = 0.2 * scale * rng.uniform();
             let piece = CurvePiece::new(0, 0.0, 1.0, cp, 0, [2.0 * half_width; 2]);
@@ -1099,7 +1103,11 @@ mod tests {
             }
             let z_max = frame.length * rng.range(0.0, 1.5);
             let hit = hull_may_hit(&one_point, half_width, z_max);
-            assert_eq!(hull_may_hit_four(lanes, half_width, z_max), hit, "case {case}");
+            assert_eq!(
+                hull_may_hit_four(lanes, half_width, z_max),
+                hit,
+                "case {case}"
+            );
             passed += usize::from(hit);
             cases += 1;
         }
