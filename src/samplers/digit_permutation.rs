@@ -27,6 +27,14 @@ pub struct DigitPermutation {
     base: u32,
     /// `[digit_index * base + digit_value]`.
     permutations: Vec<u16>,
+    /// `1 / base` to the power [`f32_digit_count`], multiplied out in f32
+    /// as the digit loop does.
+    inverse_base_power: f32,
+    /// For each digit position k (and one past the last), what positions
+    /// k onwards append to the reversed digits when every digit there is
+    /// 0, as `(multiplier, addend)`: base^(count − k) and the permuted
+    /// zeros' sum, both modulo 2⁶⁴ as the loop's wrapping arithmetic.
+    zero_tails: Vec<(u64, u64)>,
 }
 
 impl DigitPermutation {
@@ -40,7 +48,46 @@ impl DigitPermutation {
                 permutations.push(permutation_element(digit_value, base, digit_seed) as u16);
             }
         }
-        DigitPermutation { base, permutations }
+        let inverse_base = 1.0 / base as f32;
+        let inverse_base_power = (0..digit_count).fold(1.0f32, |power, _| power * inverse_base);
+        let mut zero_tails = vec![(1u64, 0u64); digit_count + 1];
+        for k in (0..digit_count).rev() {
+            let (multiplier, addend) = zero_tails[k + 1];
+            let zero = u64::from(permutations[k * base as usize]);
+            zero_tails[k] = (
+                multiplier.wrapping_mul(u64::from(base)),
+                zero.wrapping_mul(multiplier).wrapping_add(addend),
+            );
+        }
+        DigitPermutation {
+            base,
+            permutations,
+            inverse_base_power,
+            zero_tails,
+        }
+    }
+
+    /// How many digit positions the permutations cover
+    /// ([`f32_digit_count`]).
+    #[inline]
+    pub fn digit_count(&self) -> usize {
+        self.zero_tails.len() - 1
+    }
+
+    /// `1 / base` to the power [`Self::digit_count`], as the digit loop
+    /// multiplies it out.
+    #[inline]
+    pub fn inverse_base_power(&self) -> f32 {
+        self.inverse_base_power
+    }
+
+    /// `reversed`, the permuted digits of positions before `digit_index`,
+    /// continued through the last position with zeros (each permuted):
+    /// what the digit loop would reach once the index has no digits left.
+    #[inline]
+    pub fn append_zero_digits(&self, digit_index: usize, reversed: u64) -> u64 {
+        let (multiplier, addend) = self.zero_tails[digit_index.min(self.digit_count())];
+        reversed.wrapping_mul(multiplier).wrapping_add(addend)
     }
 
     /// The value digit `digit_value` at position `digit_index` becomes.

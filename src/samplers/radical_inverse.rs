@@ -48,27 +48,32 @@ pub fn inverse_radical_inverse(mut inverse: u64, base: u64, digit_count: u32) ->
 /// The radical inverse with each digit position's values permuted by
 /// `permutation` (which must be for the same base), over every digit f32
 /// resolves (so leading zero digits are permuted too).
+///
+/// pbrt-v4 loops over all those positions; here the loop stops where the
+/// index has no digits left, and the permuted zeros of the positions after
+/// are added at once (`DigitPermutation::append_zero_digits`): the same
+/// integer, so the same float (for 256 × 256 pixels at 32 samples, an
+/// index has 20 of base 2's 25 positions, 13 of base 3's 16).
 pub fn scrambled_radical_inverse(
     base_index: usize,
     mut index: u64,
     permutation: &DigitPermutation,
 ) -> f32 {
     let (base, reciprocal) = base_of(base_index);
-    let inverse_base = 1.0 / base as f32;
-    let mut inverse_base_power = 1.0f32;
+    let digit_count = permutation.digit_count();
     let mut reversed_digits = 0u64;
     let mut digit_index = 0;
-    while 1.0 - (base - 1) as f32 * inverse_base_power < 1.0 {
+    while index != 0 && digit_index < digit_count {
         let next = divide_by_prime(index, base, reciprocal);
         let digit = (index - next * base) as u32;
         reversed_digits = reversed_digits
             .wrapping_mul(base)
             .wrapping_add(u64::from(permutation.permute(digit_index, digit)));
-        inverse_base_power *= inverse_base;
         digit_index += 1;
         index = next;
     }
-    (inverse_base_power * reversed_digits as f32).min(ONE_MINUS_EPSILON)
+    let reversed_digits = permutation.append_zero_digits(digit_index, reversed_digits);
+    (permutation.inverse_base_power() * reversed_digits as f32).min(ONE_MINUS_EPSILON)
 }
 
 /// The radical inverse with Owen scrambling: each digit is permuted by a
@@ -117,6 +122,54 @@ mod tests {
                 let scaled =
                     (radical_inverse(base_index, index) as f64 * count as f64).round() as u64;
                 assert_eq!(inverse_radical_inverse(scaled, base, digits), index);
+            }
+        }
+    }
+
+    /// pbrt-v4's loop over every digit position f32 resolves, written out.
+    fn scrambled_over_every_position(
+        base_index: usize,
+        mut index: u64,
+        permutation: &DigitPermutation,
+    ) -> f32 {
+        let base = u64::from(PRIMES[base_index]);
+        let inverse_base = 1.0 / base as f32;
+        let mut inverse_base_power = 1.0f32;
+        let mut reversed_digits = 0u64;
+        let mut digit_index = 0;
+        while 1.0 - (base - 1) as f32 * inverse_base_power < 1.0 {
+            let digit = (index % base) as u32;
+            reversed_digits = reversed_digits
+                .wrapping_mul(base)
+                .wrapping_add(u64::from(permutation.permute(digit_index, digit)));
+            inverse_base_power *= inverse_base;
+            digit_index += 1;
+            index /= base;
+        }
+        (inverse_base_power * reversed_digits as f32).min(ONE_MINUS_EPSILON)
+    }
+
+    /// Stopping at the index's last digit and adding the permuted zeros at
+    /// once gives pbrt-v4's loop's value bit for bit: small and huge
+    /// indices (more digits than f32 resolves), small and large bases.
+    #[test]
+    fn scrambled_inverses_match_the_loop_over_every_position() {
+        for base_index in [0, 1, 2, 10, 100, 999] {
+            let permutation = DigitPermutation::new(PRIMES[base_index], 7 + base_index as u32);
+            let mut index = 0u64;
+            for step in 0..20_000u64 {
+                let ours = scrambled_radical_inverse(base_index, index, &permutation);
+                let pbrt = scrambled_over_every_position(base_index, index, &permutation);
+                assert_eq!(
+                    ours.to_bits(),
+                    pbrt.to_bits(),
+                    "base {base_index}, index {index}"
+                );
+                index = if step % 2 == 0 {
+                    step
+                } else {
+                    index.wrapping_mul(6364136223846793005).wrapping_add(step) >> (step % 64)
+                };
             }
         }
     }
