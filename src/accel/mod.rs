@@ -10,4 +10,4 @@ pub mod wide_conversion;
 
 pub use bvh::Bvh;
 pub use instruction_set::InstructionSet;
-pub use prefetch::prefetch;
+pub use prefetch::{prefetch, prefetch_address};

@@ -221,7 +221,8 @@ impl BuiltScene {
             Some(t)
         };
         if self.has_curves() {
-            bvh.closest_hit_prefetching(ray, t_max, children, |i| self.prefetch(i), test)?;
+            let first = self.prefetch_start();
+            bvh.closest_hit_prefetching(ray, t_max, children, |i| first.prefetch(i), test)?;
         } else {
             bvh.closest_hit_prefetching(ray, t_max, children, |_| {}, test)?;
         }
@@ -323,7 +324,8 @@ impl BuiltScene {
             }
         };
         if self.has_curves() {
-            bvh.any_hit_prefetching(ray, t_max, children, |i| self.prefetch(i), test)
+            let first = self.prefetch_start();
+            bvh.any_hit_prefetching(ray, t_max, children, |i| first.prefetch(i), test)
         } else {
             bvh.any_hit_prefetching(ray, t_max, children, |_| {}, test)
         }
@@ -351,20 +353,14 @@ impl BuiltScene {
         !matches!(&self.curve_lookup, CurveLookup::Mapped(map) if map.is_empty())
     }
 
-    /// Starts loading what testing primitive `i` reads first.
+    /// Where what testing primitive `i` reads first lies, for every `i`:
+    /// taken once per ray query, so that each prefetch is an address
+    /// computation (no match on the lookup, no bounds check).
     #[inline(always)]
-    fn prefetch(&self, i: usize) {
+    fn prefetch_start(&self) -> PrefetchStart {
         match &self.curve_lookup {
-            CurveLookup::ByPrimitive => {
-                if let Some(piece) = self.shapes.curve_pieces.get(i) {
-                    crate::accel::prefetch(piece);
-                }
-            }
-            CurveLookup::Mapped(curve_of_primitive) => {
-                if let Some(c) = curve_of_primitive.get(i) {
-                    crate::accel::prefetch(c);
-                }
-            }
+            CurveLookup::ByPrimitive => PrefetchStart::of(&self.shapes.curve_pieces),
+            CurveLookup::Mapped(curve_of_primitive) => PrefetchStart::of(curve_of_primitive),
         }
     }
 
@@ -1066,6 +1062,29 @@ enum CurveLookup {
     /// For each primitive, its piece if it is a curve without an alpha
     /// cutout, else [`NOT_A_CURVE`]; empty in a scene without curves.
     Mapped(Vec<u32>),
+}
+
+/// An array's start and element size: where element `i` lies.
+#[derive(Clone, Copy)]
+struct PrefetchStart {
+    start: *const u8,
+    size: usize,
+}
+
+impl PrefetchStart {
+    fn of<T>(array: &[T]) -> Self {
+        PrefetchStart {
+            start: array.as_ptr().cast(),
+            size: std::mem::size_of::<T>(),
+        }
+    }
+
+    /// Starts loading element `i` (past the end: a line loaded for
+    /// nothing, never a fault).
+    #[inline(always)]
+    fn prefetch(self, i: usize) {
+        crate::accel::prefetch_address(self.start.wrapping_add(i.wrapping_mul(self.size)));
+    }
 }
 
 /// In `CurveLookup::Mapped`: the primitive is not a curve (or has an alpha
