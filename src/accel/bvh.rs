@@ -263,6 +263,8 @@ impl Bvh {
             // of set bits is a branch the processor keeps mispredicting:
             // a sixth of a hair render's mispredictions): where fewer are
             // entered, the last one again (its line is on its way already).
+            // Written out: as a fixed-count loop with an `if`, the compiler
+            // made branches again (6 % more mispredictions per sample).
             let base = self.first + node.primitive_base_idx as usize;
             let next = |bits: u32, previous: u32| {
                 if bits != 0 {

@@ -221,8 +221,8 @@ impl BuiltScene {
             Some(t)
         };
         if self.has_curves() {
-            let first = self.prefetch_start();
-            bvh.closest_hit_prefetching(ray, t_max, children, |i| first.prefetch(i), test)?;
+            let start = self.prefetch_start();
+            bvh.closest_hit_prefetching(ray, t_max, children, |i| start.prefetch(i), test)?;
         } else {
             bvh.closest_hit_prefetching(ray, t_max, children, |_| {}, test)?;
         }
@@ -324,8 +324,8 @@ impl BuiltScene {
             }
         };
         if self.has_curves() {
-            let first = self.prefetch_start();
-            bvh.any_hit_prefetching(ray, t_max, children, |i| first.prefetch(i), test)
+            let start = self.prefetch_start();
+            bvh.any_hit_prefetching(ray, t_max, children, |i| start.prefetch(i), test)
         } else {
             bvh.any_hit_prefetching(ray, t_max, children, |_| {}, test)
         }

@@ -251,11 +251,7 @@ impl CurvePiece {
         // Four points at a time, each coordinate as the one-point projection
         // and `hull_may_hit` compute it (the same products and sums in the
         // same order), so the same pieces pass.
-        let projected = frame.project_four(
-            Vec4::from_array(self.x),
-            Vec4::from_array(self.y),
-            Vec4::from_array(self.z),
-        );
+        let projected = frame.project_four([self.x, self.y, self.z]);
         if !hull_may_hit_four(projected, self.half_width, frame.length * t_max) {
             return None;
         }
@@ -477,14 +473,14 @@ impl RayFrame {
         Vec3::new(q.dot(self.ex), q.dot(self.ey), q.dot(self.dz))
     }
 
-    /// [`Self::project`] of four points given by coordinate (lane k: point
-    /// k), with the same arithmetic per lane.
+    /// [`Self::project`] of four points given by coordinate (element k:
+    /// point k), with the same arithmetic per lane.
     #[inline]
-    fn project_four(&self, x: Vec4, y: Vec4, z: Vec4) -> [Vec4; 3] {
+    fn project_four(&self, [x, y, z]: [[f32; 4]; 3]) -> [Vec4; 3] {
         let q = [
-            x - Vec4::splat(self.origin.x),
-            y - Vec4::splat(self.origin.y),
-            z - Vec4::splat(self.origin.z),
+            Vec4::from_array(x) - Vec4::splat(self.origin.x),
+            Vec4::from_array(y) - Vec4::splat(self.origin.y),
+            Vec4::from_array(z) - Vec4::splat(self.origin.z),
         ];
         let dot = |axis: Vec3| {
             q[0] * Vec4::splat(axis.x) + q[1] * Vec4::splat(axis.y) + q[2] * Vec4::splat(axis.z)
@@ -1088,11 +1084,7 @@ mod tests {
                 continue;
             };
             let one_point = piece.control_points().map(|p| frame.project(p));
-            let lanes = frame.project_four(
-                Vec4::from_array(piece.x),
-                Vec4::from_array(piece.y),
-                Vec4::from_array(piece.z),
-            );
+            let lanes = frame.project_four([piece.x, piece.y, piece.z]);
             for k in 0..4 {
                 let lane = Vec3::new(lanes[0][k], lanes[1][k], lanes[2][k]);
                 assert_eq!(
