@@ -473,8 +473,8 @@ impl RayFrame {
         Vec3::new(q.dot(self.ex), q.dot(self.ey), q.dot(self.dz))
     }
 
-    /// [`Self::project`] of four points given by coordinate (element k:
-    /// point k), with the same arithmetic per lane.
+    /// Four points given by coordinate (element k: point k) in this frame,
+    /// each lane computed as the tests' one-point `project` computes it.
     #[inline]
     fn project_four(&self, [x, y, z]: [[f32; 4]; 3]) -> [Vec4; 3] {
         let q = [
