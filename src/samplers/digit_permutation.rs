@@ -8,8 +8,9 @@ use std::sync::{Arc, OnceLock};
 
 /// How many base-`base` digits an f32 radical inverse resolves: digits are
 /// taken while `1 - (base - 1) / base^i` is still below 1 in f32 (pbrt-v4's
-/// rule, so the permutations line up with its digit loops).
-pub fn f32_digit_count(base: u32) -> usize {
+/// rule, so the permutations line up with its digit loops); and `1 / base`
+/// to that power, multiplied out as the digit loop does.
+fn f32_digits(base: u32) -> (usize, f32) {
     let inverse_base = 1.0 / base as f32;
     let mut inverse_base_power = 1.0f32;
     let mut digits = 0;
@@ -17,7 +18,7 @@ pub fn f32_digit_count(base: u32) -> usize {
         digits += 1;
         inverse_base_power *= inverse_base;
     }
-    digits
+    (digits, inverse_base_power)
 }
 
 /// For each digit position of base-`base` numbers, a permutation of the
@@ -27,7 +28,7 @@ pub struct DigitPermutation {
     base: u32,
     /// `[digit_index * base + digit_value]`.
     permutations: Vec<u16>,
-    /// `1 / base` to the power [`f32_digit_count`], multiplied out in f32
+    /// `1 / base` to the digit count ([`f32_digits`]), multiplied out in f32
     /// as the digit loop does.
     inverse_base_power: f32,
     /// For each digit position k (and one past the last), what positions
@@ -40,7 +41,7 @@ pub struct DigitPermutation {
 impl DigitPermutation {
     /// The permutations for `base` (below 65536) chosen by `seed`.
     pub fn new(base: u32, seed: u32) -> Self {
-        let digit_count = f32_digit_count(base);
+        let (digit_count, inverse_base_power) = f32_digits(base);
         let mut permutations = Vec::with_capacity(digit_count * base as usize);
         for digit_index in 0..digit_count {
             let digit_seed = hash_words(&[base, digit_index as u32, seed]) as u32;
@@ -48,8 +49,6 @@ impl DigitPermutation {
                 permutations.push(permutation_element(digit_value, base, digit_seed) as u16);
             }
         }
-        let inverse_base = 1.0 / base as f32;
-        let inverse_base_power = (0..digit_count).fold(1.0f32, |power, _| power * inverse_base);
         let mut zero_tails = vec![(1u64, 0u64); digit_count + 1];
         for k in (0..digit_count).rev() {
             let (multiplier, addend) = zero_tails[k + 1];
@@ -68,7 +67,7 @@ impl DigitPermutation {
     }
 
     /// How many digit positions the permutations cover
-    /// ([`f32_digit_count`]).
+    /// ([`f32_digits`]).
     #[inline]
     pub fn digit_count(&self) -> usize {
         self.zero_tails.len() - 1
@@ -133,16 +132,16 @@ mod tests {
     #[test]
     fn digit_counts_cover_f32_precision() {
         // 1 - 2^-k < 1 in f32 for k up to 24.
-        assert_eq!(f32_digit_count(2), 25);
-        assert!(f32_digit_count(3) >= 15);
-        assert!(f32_digit_count(7919) >= 2);
+        assert_eq!(f32_digits(2).0, 25);
+        assert!(f32_digits(3).0 >= 15);
+        assert!(f32_digits(7919).0 >= 2);
     }
 
     #[test]
     fn each_position_is_a_permutation() {
         for base in [2u32, 3, 5, 7919] {
             let p = DigitPermutation::new(base, 17);
-            for digit_index in 0..f32_digit_count(base) {
+            for digit_index in 0..f32_digits(base).0 {
                 let mut seen = vec![false; base as usize];
                 for value in 0..base {
                     let v = p.permute(digit_index, value) as usize;
