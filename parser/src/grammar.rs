@@ -5,6 +5,7 @@ use crate::error::ErrorKind;
 use crate::lexer::{self, describe, fail, LexError, PResult};
 use crate::location::Location;
 use crate::param::{self, Param};
+use std::borrow::Cow;
 
 /// Builds the location of a position (the remaining input) in the buffer.
 pub(crate) type Locate<'l> = dyn Fn(&[u8]) -> Location + 'l;
@@ -45,7 +46,7 @@ pub(crate) fn directive<'a>(input: &'a [u8], locate: &Locate<'_>) -> PResult<'a,
     };
     let string = |make: fn(String) -> Directive| -> PResult<'a, Directive> {
         let (rest, s) = string_argument(rest)?;
-        Ok((rest, make(s)))
+        Ok((rest, make(s.into_owned())))
     };
     match keyword {
         b"Accelerator" => entity_of(D::Accelerator),
@@ -90,13 +91,19 @@ pub(crate) fn directive<'a>(input: &'a [u8], locate: &Locate<'_>) -> PResult<'a,
             let r1 = lexer::skip_space(r);
             if r1.first() == Some(&b'"') {
                 let (r2, outside) = lexer::quoted_string(r1)?;
-                Ok((r2, D::MediumInterface { inside, outside }))
+                Ok((
+                    r2,
+                    D::MediumInterface {
+                        inside: inside.into_owned(),
+                        outside: outside.into_owned(),
+                    },
+                ))
             } else {
                 Ok((
                     r,
                     D::MediumInterface {
-                        outside: inside.clone(),
-                        inside,
+                        outside: inside.to_string(),
+                        inside: inside.into_owned(),
                     },
                 ))
             }
@@ -134,8 +141,8 @@ pub(crate) fn directive<'a>(input: &'a [u8], locate: &Locate<'_>) -> PResult<'a,
             Ok((
                 r,
                 D::Texture {
-                    name,
-                    value_type,
+                    name: name.into_owned(),
+                    value_type: value_type.into_owned(),
                     class,
                 },
             ))
@@ -178,7 +185,7 @@ fn expected<'a>(input: &'a [u8], what: &'static str) -> nom::Err<LexError<'a>> {
 }
 
 /// A quoted string argument (after optional space).
-fn string_argument(input: &[u8]) -> PResult<'_, String> {
+fn string_argument(input: &[u8]) -> PResult<'_, Cow<'_, str>> {
     let input = lexer::skip_space(input);
     if input.first() != Some(&b'"') {
         return Err(expected(input, "a quoted string"));
@@ -235,7 +242,13 @@ fn fixed_numbers<'a, const N: usize>(
 fn entity<'a>(input: &'a [u8], locate: &Locate<'_>) -> PResult<'a, Entity> {
     let (rest, kind) = string_argument(input)?;
     let (rest, params) = param_list(rest, locate)?;
-    Ok((rest, Entity { kind, params }))
+    Ok((
+        rest,
+        Entity {
+            kind: kind.into_owned(),
+            params,
+        },
+    ))
 }
 
 /// Parameters for as long as the next token is a quoted string.

@@ -8,6 +8,7 @@
 use crate::error::ErrorKind;
 use nom::bytes::complete::take_while1;
 use nom::IResult;
+use std::borrow::Cow;
 
 /// A lexical error: where (the remaining input) and what.
 #[derive(Debug, PartialEq)]
@@ -91,8 +92,10 @@ pub fn word(input: &[u8]) -> PResult<'_, &[u8]> {
 }
 
 /// A quoted string, with pbrt's backslash escapes (`\n \t \r \b \f \\ \"`
-/// and `\` before a newline). The string may not span lines.
-pub fn quoted_string(input: &[u8]) -> PResult<'_, String> {
+/// and `\` before a newline). The string may not span lines. Borrowed from
+/// the input unless it has escapes: most strings are names looked up or
+/// interned at once, and a scene of a million curves has millions of them.
+pub fn quoted_string(input: &[u8]) -> PResult<'_, Cow<'_, str>> {
     let Some(rest) = input.strip_prefix(b"\"") else {
         return Err(nom::Err::Error(LexError::new(
             input,
@@ -110,21 +113,21 @@ pub fn quoted_string(input: &[u8]) -> PResult<'_, String> {
         Some(n) if rest[n] == b'"' => {
             let text = std::str::from_utf8(&rest[..n])
                 .map_err(|_| nom::Err::Failure(LexError::new(input, ErrorKind::InvalidUtf8)))?;
-            Ok((&rest[n + 1..], text.to_owned()))
+            Ok((&rest[n + 1..], Cow::Borrowed(text)))
         }
         Some(n) if rest[n] == b'\\' => escaped_string(input, rest),
         _ => fail(input, ErrorKind::UnterminatedString),
     }
 }
 
-fn escaped_string<'a>(start: &'a [u8], mut rest: &'a [u8]) -> PResult<'a, String> {
+fn escaped_string<'a>(start: &'a [u8], mut rest: &'a [u8]) -> PResult<'a, Cow<'a, str>> {
     let mut bytes = Vec::new();
     loop {
         match rest {
             [b'"', tail @ ..] => {
                 let text = String::from_utf8(bytes)
                     .map_err(|_| nom::Err::Failure(LexError::new(start, ErrorKind::InvalidUtf8)))?;
-                return Ok((tail, text));
+                return Ok((tail, Cow::Owned(text)));
             }
             [b'\\', c, tail @ ..] => {
                 bytes.push(match c {
@@ -335,7 +338,7 @@ mod tests {
     fn strings_with_escapes() {
         assert_eq!(
             quoted_string(b"\"abc\" x").unwrap(),
-            (&b" x"[..], "abc".to_string())
+            (&b" x"[..], Cow::Borrowed("abc"))
         );
         assert_eq!(quoted_string(b"\"a\\\"b\\n\"").unwrap().1, "a\"b\n");
         assert_eq!(quoted_string(b"\"\"").unwrap().1, "");

@@ -238,22 +238,36 @@ fn bracketed_values(open: &[u8]) -> PResult<'_, Values> {
 
 /// The values of a list of strings or bools, `value` reading one (`None`
 /// when the text is not one); `rest` is past the `[` that `open` starts at.
+/// A list of one (a curve's `"string type" [ "cylinder" ]`) allocates no
+/// vector.
 fn listed<'a, T>(
     open: &'a [u8],
     mut rest: &'a [u8],
     expected: &'static str,
     value: impl Fn(&'a [u8]) -> PResult<'a, Option<T>>,
-) -> PResult<'a, Vec<T>> {
-    let mut values = Vec::new();
+) -> PResult<'a, List<T>> {
+    let mut first = None;
+    let mut all = Vec::new();
     loop {
         match rest.first() {
-            Some(b']') => return Ok((&rest[1..], values)),
+            Some(b']') => {
+                let list = match first {
+                    _ if !all.is_empty() => List::from(all),
+                    Some(one) => List::one(one),
+                    None => List::empty(),
+                };
+                return Ok((&rest[1..], list));
+            }
             None => return fail(open, unclosed_bracket(open)),
             _ => {}
         }
         match value(rest)? {
             (r, Some(v)) => {
-                values.push(v);
+                match first.take() {
+                    None if all.is_empty() => first = Some(v),
+                    None => all.push(v),
+                    Some(one) => all.extend([one, v]),
+                }
                 rest = lexer::skip_space(r);
             }
             (_, None) => return fail(rest, mixed_or_bad(open, rest, expected)),
@@ -415,7 +429,7 @@ pub fn declaration_and_values(input: &[u8]) -> Result<Declaration<'_>, nom::Err<
     let Some((tyname, name)) = split_declaration(&declaration) else {
         return Err(nom::Err::Failure(LexError::new(
             start,
-            ErrorKind::MalformedDeclaration(declaration.clone()),
+            ErrorKind::MalformedDeclaration(declaration.into_owned()),
         )));
     };
     let Some((ty, is_v3)) = ParamType::from_name(tyname) else {

@@ -6,18 +6,42 @@
 //! number or string cut by the window's edge is never taken for a whole one;
 //! otherwise the window grows (doubling, so re-parsing stays linear) and the
 //! directive is parsed again.
+//!
+//! With two threads or more (rayon's pool), the window's text is cut into
+//! segments at lines that begin with a directive's keyword and the
+//! segments are parsed at once, one per thread ([`Source::parse_ahead`]).
+//! A line's start is never inside a comment, and inside a string only after
+//! a backslash-newline; a capitalised bare word there can only be a
+//! directive. Each segment is parsed as a whole text. Its directives are
+//! kept only if it parses without error and every segment before it did:
+//! then its start was a directive's start in the file read in order, and
+//! its directives are the ones that reading gives (a directive ends where
+//! the next keyword or the segment's end begins, alike). From the first
+//! segment that fails, the file is read in order as before, so that a bad
+//! file reports the same first error at the same place.
 
 use crate::directive::Located;
 use crate::error::{ErrorKind, ParseError};
 use crate::grammar;
 use crate::lexer;
 use crate::location::{Location, SourceFile};
+use rayon::prelude::*;
+use std::collections::VecDeque;
 use std::io::{BufReader, Read};
 use std::path::Path;
 use std::sync::Arc;
 
 /// Bytes read at a time.
 const CHUNK: usize = 1 << 20;
+
+/// The text a segment of a parallel parse holds, at least (it ends at the
+/// next directive's line): a few milliseconds of work, so that rayon's
+/// hand-off costs nothing beside it.
+const SEGMENT: usize = 1 << 18;
+
+/// Segments parsed at once per thread: two, so that a thread with a slow
+/// segment holds the others up less.
+const SEGMENTS_PER_THREAD: usize = 2;
 
 /// A reader of the file's text, decompressing `.gz` files.
 pub fn decompressing_reader(
@@ -46,6 +70,17 @@ pub(crate) struct Source {
     base: usize,
     /// The largest the window has been, in bytes.
     pub peak_window: usize,
+    /// Directives parsed ahead from whole segments, the file's next ones.
+    ahead: VecDeque<(Located, bool)>,
+    /// Whether segments are still parsed in parallel (until one fails).
+    parallel: bool,
+    /// The file offset up to which directives are read in order: the end
+    /// of a window that held too little for segments (so that it is not
+    /// searched for them again before every directive).
+    in_order_until: usize,
+    /// Directives read from segments parsed in parallel (for tests).
+    #[cfg(test)]
+    from_segments: usize,
 }
 
 impl Source {
@@ -70,6 +105,11 @@ impl Source {
             pos: 0,
             base: 0,
             peak_window: 0,
+            ahead: VecDeque::new(),
+            parallel: true,
+            in_order_until: 0,
+            #[cfg(test)]
+            from_segments: 0,
         })
     }
 
@@ -81,6 +121,11 @@ impl Source {
             buf: text,
             pos: 0,
             base: 0,
+            ahead: VecDeque::new(),
+            parallel: true,
+            in_order_until: 0,
+            #[cfg(test)]
+            from_segments: 0,
         }
     }
 
@@ -127,6 +172,12 @@ impl Source {
     /// The next directive, or `None` at the end of the file; `true` with
     /// it when it was written as the deprecated TransformBegin/End.
     pub fn next_directive(&mut self) -> Result<Option<(Located, bool)>, ParseError> {
+        if self.ahead.is_empty() {
+            self.parse_ahead()?;
+        }
+        if let Some(next) = self.ahead.pop_front() {
+            return Ok(Some(next));
+        }
         loop {
             let outcome = {
                 let window = &self.buf[self.pos..];
@@ -189,9 +240,247 @@ impl Source {
     }
 }
 
+impl Source {
+    /// Parses the window's next segments at once (see the module's doc)
+    /// into `ahead`. Leaves `ahead` empty where the next directive is to
+    /// be read in order: one thread, a failed segment, less than two
+    /// segments' text left at the end of the file, or a directive longer
+    /// than the window.
+    fn parse_ahead(&mut self) -> Result<(), ParseError> {
+        if !self.parallel || rayon::current_num_threads() < 2 {
+            return Ok(());
+        }
+        let Some(cuts) = self.cut_segments()? else {
+            return Ok(());
+        };
+        let (text, start, file) = (&self.buf[self.pos..], self.base + self.pos, &self.file);
+        let parsed: Vec<_> = cuts
+            .par_windows(2)
+            .map(|w| parse_segment(&text[w[0]..w[1]], start + w[0], file))
+            .collect();
+        for (directives, cut) in parsed.into_iter().zip(&cuts) {
+            let Some(directives) = directives else {
+                // Read on in order from this segment's start.
+                self.pos += cut;
+                self.parallel = false;
+                return Ok(());
+            };
+            #[cfg(test)]
+            {
+                self.from_segments += directives.len();
+            }
+            self.ahead.extend(directives);
+        }
+        self.pos += cuts[cuts.len() - 1];
+        Ok(())
+    }
+
+    /// Where the window's next text is cut into segments (offsets from
+    /// `pos`, the first 0): about two segments per thread, read first
+    /// when the window holds less; `None` where there are not two.
+    fn cut_segments(&mut self) -> Result<Option<Vec<usize>>, ParseError> {
+        if self.base + self.pos < self.in_order_until {
+            return Ok(None);
+        }
+        let group = rayon::current_num_threads() * SEGMENTS_PER_THREAD * SEGMENT;
+        while self.buf.len() - self.pos < group && !self.at_eof() {
+            self.read_more()?;
+        }
+        let text = &self.buf[self.pos..];
+        let mut cuts = vec![0];
+        let mut from = SEGMENT;
+        while from < text.len() {
+            let Some(cut) = directive_line_at_or_after(text, from) else {
+                break;
+            };
+            cuts.push(cut);
+            from = cut + SEGMENT;
+        }
+        // The last segment runs to the end of the file, or, before it, to
+        // the last cut (the rest is read with the next window).
+        if self.at_eof() {
+            cuts.push(text.len());
+        }
+        if cuts.len() < 3 {
+            self.in_order_until = self.base + self.buf.len();
+            return Ok(None);
+        }
+        Ok(Some(cuts))
+    }
+}
+
+/// The first position at or after `from` that begins a line's first word
+/// when that word is capitalised (a directive's keyword), past the line's
+/// indentation. `ActiveTransform`'s arguments are skipped: they are the
+/// capitalised words that are not directives.
+fn directive_line_at_or_after(text: &[u8], from: usize) -> Option<usize> {
+    let mut at = from;
+    loop {
+        let newline = at + text.get(at..)?.iter().position(|&b| b == b'\n')?;
+        let indented = &text[newline + 1..];
+        let word_start = newline
+            + 1
+            + indented
+                .iter()
+                .take_while(|&&b| b == b' ' || b == b'\t')
+                .count();
+        let line = &text[word_start..];
+        let argument = [&b"StartTime"[..], b"EndTime", b"All"].iter().any(|w| {
+            line.starts_with(w) && line.get(w.len()).is_none_or(|&b| lexer::is_delimiter(b))
+        });
+        if line.first().is_some_and(u8::is_ascii_uppercase) && !argument {
+            return Some(word_start);
+        }
+        at = newline + 1;
+    }
+}
+
+/// The directives of a segment that starts with one and is read as a
+/// whole text (`offset`: its place in the file); `None` at any error.
+fn parse_segment(
+    text: &[u8],
+    offset: usize,
+    file: &Arc<SourceFile>,
+) -> Option<Vec<(Located, bool)>> {
+    let mut directives = Vec::new();
+    let mut rest = lexer::skip_space(text);
+    while !rest.is_empty() {
+        let at = |r: &[u8]| offset + (text.len() - r.len());
+        let locate = |r: &[u8]| Location::new(file.clone(), at(r));
+        let (after, directive) = grammar::directive(rest, &locate).ok()?;
+        let deprecated = rest.starts_with(b"TransformBegin") || rest.starts_with(b"TransformEnd");
+        directives.push((
+            Located {
+                directive,
+                location: Location::new(file.clone(), at(rest)),
+            },
+            deprecated,
+        ));
+        rest = lexer::skip_space(after);
+    }
+    Some(directives)
+}
+
 enum Outcome {
     End(usize),
     NeedMore,
     Directive(crate::directive::Directive, usize, usize, bool),
     Error(ErrorKind, usize),
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Every directive of `text` as `Debug` prints it (its parameters'
+    /// locations too) with its offset, then the error and its offset if
+    /// there is one, read with `threads` threads; and how many directives
+    /// came from segments parsed in parallel.
+    fn read(text: &[u8], threads: usize) -> (Vec<String>, usize) {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let file = SourceFile::in_memory("<test>", Arc::from(text));
+            let mut source = Source::from_text(file, text.to_vec());
+            let mut out = Vec::new();
+            loop {
+                match source.next_directive() {
+                    Ok(Some((d, deprecated))) => out.push(format!(
+                        "{:?} at {} {deprecated}",
+                        d.directive, d.location.offset
+                    )),
+                    Ok(None) => break,
+                    Err(e) => {
+                        out.push(format!("error {:?} at {}", e.kind, e.location.offset));
+                        break;
+                    }
+                }
+            }
+            (out, source.from_segments)
+        })
+    }
+
+    /// A scene text of about `size` bytes that uses what could mislead a
+    /// cut: directives over several lines, indentation, comments naming
+    /// directives, `ActiveTransform`'s capitalised arguments on their own
+    /// line, a string continued by a backslash-newline onto a line that
+    /// starts with a keyword, bare bools, deprecated names.
+    fn scene(size: usize) -> String {
+        let mut text = String::from("WorldBegin\n");
+        let mut i = 0u32;
+        while text.len() < size {
+            let x = f64::from(i) * 0.001;
+            text.push_str(&match i % 9 {
+                0 => format!("AttributeBegin\n  Translate {x} 2 3\n"),
+                1 => format!(
+                    "Shape \"curve\" \"point3 P\" [ {x} 1 2 3 4 5 6 7 8 9 10 11 ] \"float width\" [ 0.01 ]\n"
+                ),
+                2 => format!(
+                    "Shape \"trianglemesh\"\n    \"point3 P\" [ 0 0 {x}\n 1 0 0\n 0 1 0 ]\n    \"integer indices\" [ 0 1 2 ]\n"
+                ),
+                3 => "# Shape \"sphere\" in a comment\nAttributeEnd\n".to_string(),
+                4 => "ActiveTransform\nStartTime\nActiveTransform\n  All\n".to_string(),
+                5 => format!("Texture \"t{i}\" \"spectrum\" \"imagemap\" \"string filename\" \"a\\\nShape b.png\"\n"),
+                6 => "TransformBegin\nTransformEnd\n".to_string(),
+                7 => "MakeNamedMaterial \"m\"\n  \"bool remaproughness\"\n  true \"string type\" \"coateddiffuse\"\n".to_string(),
+                _ => format!("\tShape \"sphere\" \"float radius\" {x}\n"),
+            });
+            i += 1;
+        }
+        text
+    }
+
+    #[test]
+    fn segments_read_as_the_file_read_in_order() {
+        let text = scene(3 * (1 << 20));
+        let (in_order, none) = read(text.as_bytes(), 1);
+        assert_eq!(none, 0);
+        assert!(!in_order.last().unwrap().starts_with("error"), "{:?}", in_order.last());
+        for threads in [2, 4, 7] {
+            let (parallel, from_segments) = read(text.as_bytes(), threads);
+            assert!(
+                from_segments > in_order.len() / 2,
+                "{threads} threads: {from_segments} of {} from segments",
+                in_order.len()
+            );
+            assert!(parallel == in_order, "{threads} threads");
+        }
+    }
+
+    #[test]
+    fn errors_are_those_of_the_file_read_in_order() {
+        let text = scene(3 * (1 << 20) / 2);
+        let bad = [
+            "Shape \"sphere\" \"float radius\" [ 1 2x ]\n",
+            "Foo 1 2\n",
+            "Shape \"sphere\" \"float radius\"\n",
+            "\"float orphan\" 1\n",
+            "Translate 1 2\n",
+            "Shape \"x\" \"float a\" [ 1 2\n",
+            "Texture \"t\" \"spectrum\" \"imagemap\" \"string filename\" \"unterminated\n",
+            "ActiveTransform\nShape \"sphere\"\n",
+        ];
+        // At line starts spread over the text, several near where
+        // segments are cut.
+        let lines: Vec<usize> = text.match_indices('\n').map(|(at, _)| at + 1).collect();
+        let mut positions: Vec<usize> = (1..12).map(|k| lines[k * lines.len() / 12]).collect();
+        for cut in [SEGMENT, 2 * SEGMENT, 4 * SEGMENT] {
+            let after = lines.partition_point(|&l| l < cut);
+            positions.extend(&lines[after.saturating_sub(2)..(after + 2).min(lines.len())]);
+        }
+        let mut errors = 0;
+        for (k, &at) in positions.iter().enumerate() {
+            let error = bad[k % bad.len()];
+            let mut broken = text.clone();
+            broken.insert_str(at, error);
+            let (in_order, _) = read(broken.as_bytes(), 1);
+            // (A parameter after a directive's is one of its own.)
+            errors += usize::from(in_order.last().unwrap().starts_with("error"));
+            let (parallel, _) = read(broken.as_bytes(), 4);
+            assert!(parallel == in_order, "{error:?} at {at}");
+        }
+        assert!(errors + 4 > positions.len(), "{errors} errors");
+    }
 }
