@@ -224,13 +224,13 @@ fn bracketed_values(open: &[u8]) -> PResult<'_, Values> {
                 }
                 lexer::quoted_string(r).map(|(r, s)| (r, Some(Name::new(&s))))
             })?;
-            Ok((rest, Values::Strings(v.into())))
+            Ok((rest, Values::Strings(v)))
         }
         Some(b't' | b'f') => {
             let (rest, v) = listed(open, rest, "bools (true or false)", |r| {
                 Ok(boolean(r).map_or((r, None), |(r, b)| (r, Some(b))))
             })?;
-            Ok((rest, Values::Bools(v.into())))
+            Ok((rest, Values::Bools(v)))
         }
         _ => bracketed_numbers(open, rest),
     }
