@@ -122,53 +122,61 @@ fn cost_of(binary: &Bvh2, decisions: &mut [Decision], node: usize, max_per_leaf:
     let count = cost_of(binary, decisions, first, max_per_leaf)
         + cost_of(binary, decisions, first + 1, max_per_leaf);
     let (left, right) = (first * 7, (first + 1) * 7);
+    let left_costs: [f32; 7] = std::array::from_fn(|k| decisions[left + k].cost);
+    let right_costs: [f32; 7] = std::array::from_fn(|k| decisions[right + k].cost);
     // At most one subtree: this node a leaf or an inner node.
     let cost_leaf = if count <= max_per_leaf {
         (count as f32) * half_area * PRIMITIVE_COST
     } else {
         f32::INFINITY
     };
+    // The cheapest split's share for the left child (the first of equal
+    // ones), chosen by selects rather than branches: which split is
+    // cheapest is a coin toss to the branch predictor.
     let mut cost_distribute = f32::INFINITY;
-    let (mut split_left, mut split_right) = (u8::MAX, u8::MAX);
+    let mut split_left = u8::MAX;
     for k in 0..7 {
-        let c = decisions[left + k].cost + decisions[right + 6 - k].cost;
-        if c < cost_distribute {
-            cost_distribute = c;
-            (split_left, split_right) = (k as u8, 6 - k as u8);
-        }
+        let c = left_costs[k] + right_costs[6 - k];
+        let better = c < cost_distribute;
+        cost_distribute = if better { c } else { cost_distribute };
+        split_left = if better { k as u8 } else { split_left };
     }
+    let split_right = if split_left == u8::MAX {
+        u8::MAX
+    } else {
+        6 - split_left
+    };
     let cost_internal = cost_distribute + half_area;
     let (kind, cost) = if cost_leaf < cost_internal {
         (Kind::Leaf, cost_leaf)
     } else {
         (Kind::Inner, cost_internal)
     };
-    decisions[here] = Decision {
+    let mut previous = Decision {
         cost,
         kind,
         left: split_left,
         right: split_right,
     };
+    decisions[here] = previous;
     // At most i + 1 subtrees: as with i, or split between the children.
     for i in 1..7 {
-        let mut cost_distribute = decisions[here + i - 1].cost;
-        let mut split = None;
+        let mut cost_distribute = previous.cost;
+        let mut split_left = u8::MAX;
         for k in 0..i {
-            let c = decisions[left + k].cost + decisions[right + i - k - 1].cost;
-            if c < cost_distribute {
-                cost_distribute = c;
-                split = Some((k as u8, (i - k - 1) as u8));
-            }
+            let c = left_costs[k] + right_costs[i - k - 1];
+            let better = c < cost_distribute;
+            cost_distribute = if better { c } else { cost_distribute };
+            split_left = if better { k as u8 } else { split_left };
         }
-        decisions[here + i] = match split {
-            Some((left, right)) => Decision {
-                cost: cost_distribute,
-                kind: Kind::Distribute,
-                left,
-                right,
-            },
-            None => decisions[here + i - 1],
+        let split = Decision {
+            cost: cost_distribute,
+            kind: Kind::Distribute,
+            left: split_left,
+            right: (i as u8).wrapping_sub(1).wrapping_sub(split_left),
         };
+        previous = if split_left != u8::MAX { split } else { previous };
+        decisions[here + i] = previous;
     }
     count
 }
