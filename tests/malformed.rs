@@ -43,6 +43,12 @@ const CASES: &[(&str, &str, &str)] = &[
     ("WorldBegin\nShape \"spheer\"", "2:1", "unknown shape type \"spheer\""),
     ("WorldBegin\nShape \"sphere\"\n    \"float raduis\" 1", "3:5", "\"float raduis\": unused parameter"),
     ("WorldBegin\nShape \"sphere\" \"integer radius\" 1", "2:16", "\"integer radius\": parameter \"radius\" has the wrong type; expected float"),
+    // The check of a shape like the one before is skipped; one that differs in a type,
+    // a name or an attribute is checked.
+    ("WorldBegin\nShape \"sphere\" \"float radius\" 1\nShape \"sphere\" \"float radius\" 2\nShape \"sphere\" \"integer radius\" 1", "4:16", "\"integer radius\": parameter \"radius\" has the wrong type; expected float"),
+    ("WorldBegin\nShape \"sphere\" \"float radius\" 1\nShape \"sphere\" \"float radius\" 2\nShape \"sphere\" \"float radius\" 1 \"float raduis\" 1", "4:33", "\"float raduis\": unused parameter"),
+    ("WorldBegin\nShape \"sphere\" \"float radius\" 1\nAttribute \"shape\" \"integer radius\" 1\nShape \"sphere\" \"float zmin\" 1", "3:19", "\"integer radius\": parameter \"radius\" has the wrong type; expected float"),
+    ("WorldBegin\nShape \"sphere\" \"float zmax\" 1\nShape \"disk\" \"float zmax\" 1", "3:14", "\"float zmax\": unused parameter (not a parameter of shape \"disk\")"),
     // Parameters pbrt-v4 has for some types of a family but not this one.
     ("Sampler \"independent\" \"integer randomization\" 2\nWorldBegin", "1:23", "\"integer randomization\": unused parameter (not a parameter of sampler \"independent\")"),
     ("Sampler \"stratified\"\n  \"integer pixelsamples\" 4\nWorldBegin", "2:3", "\"integer pixelsamples\": unused parameter"),

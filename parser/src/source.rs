@@ -437,7 +437,11 @@ mod tests {
         let text = scene(3 * (1 << 20));
         let (in_order, none) = read(text.as_bytes(), 1);
         assert_eq!(none, 0);
-        assert!(!in_order.last().unwrap().starts_with("error"), "{:?}", in_order.last());
+        assert!(
+            !in_order.last().unwrap().starts_with("error"),
+            "{:?}",
+            in_order.last()
+        );
         for threads in [2, 4, 7] {
             let (parallel, from_segments) = read(text.as_bytes(), threads);
             assert!(

@@ -175,7 +175,11 @@ fn cost_of(binary: &Bvh2, decisions: &mut [Decision], node: usize, max_per_leaf:
             left: split_left,
             right: (i as u8).wrapping_sub(1).wrapping_sub(split_left),
         };
-        previous = if split_left != u8::MAX { split } else { previous };
+        previous = if split_left != u8::MAX {
+            split
+        } else {
+            previous
+        };
         decisions[here + i] = previous;
     }
     count

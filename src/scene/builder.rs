@@ -118,6 +118,7 @@ pub struct SceneBuilder {
     world_begun: bool,
     /// The CTM interned last, to share it with the next shape.
     last_transform: Option<(AnimatedTransform, TransformId)>,
+    checker: schema::Checker,
 }
 
 /// The `"string type"` of a named material or medium (whose directive
@@ -172,6 +173,7 @@ impl SceneBuilder {
             warnings: Vec::new(),
             world_begun: false,
             last_transform: None,
+            checker: schema::Checker::default(),
             scene: SceneDescription {
                 base_directory,
                 options: Options::default(),
@@ -277,7 +279,7 @@ impl SceneBuilder {
         let attributes: &[Param] =
             attributes.map_or(&[], |target| &self.state.attributes[target as usize]);
         let params = ParamSet::new(params, attributes);
-        schema::check(category, kind, &params, location)?;
+        self.checker.check(category, kind, &params, location)?;
         Ok(Entity {
             kind: Name::new(kind),
             params,

@@ -92,12 +92,18 @@ impl ParamSet {
         }
     }
 
-    pub fn iter(&self) -> impl Iterator<Item = &Param> {
+    pub fn iter(&self) -> impl ExactSizeIterator<Item = &Param> {
         self.params.iter()
     }
 
     pub fn is_empty(&self) -> bool {
         self.params.is_empty()
+    }
+
+    /// How many of the parameters are the directive's own (the rest,
+    /// from `Attribute`, follow them in [`ParamSet::iter`]).
+    pub fn own_count(&self) -> usize {
+        self.own
     }
 
     /// The directive's own parameters (not the attributes), for printing.
