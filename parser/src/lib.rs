@@ -4,8 +4,10 @@
 //! [`Parser`] is a pull iterator of [`Located`] directives. It follows
 //! `Include` and `Import` (paths relative to the including file, `.gz` read
 //! transparently) unless told not to, and reads each file through a window so
-//! that a file of any size streams. It knows the file format only, nothing of
-//! rendering.
+//! that a file of any size streams; with two threads or more (rayon's pool)
+//! a window's text is parsed in segments at once, with the directives,
+//! locations and errors of the reading in order. It knows the file format
+//! only, nothing of rendering.
 //!
 //! ```
 //! let mut parser = pbrt_parser::Parser::from_text("<doc>", "Shape \"sphere\" \"float radius\" 2");
@@ -356,26 +358,33 @@ mod tests {
             i += 1;
         }
         std::fs::write(&path, &text).unwrap();
-        let mut parser = Parser::open(&path).unwrap();
-        let count = parser
-            .by_ref()
-            .map(|d| {
-                let d = d.unwrap();
-                let Directive::Shape(e) = d.directive else {
-                    panic!()
-                };
-                e.params[0].numbers()[11]
-            })
-            .enumerate()
-            .inspect(|(k, last)| assert_eq!(*k as f64, *last))
-            .count();
-        assert_eq!(count as u64, i);
-        // The file is 3 MiB; the window never held more than two chunks.
-        assert!(
-            parser.peak_window_bytes() <= 2 << 20,
-            "{}",
-            parser.peak_window_bytes()
-        );
+        // Two threads: the window holds two segments per thread.
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(2)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            let mut parser = Parser::open(&path).unwrap();
+            let count = parser
+                .by_ref()
+                .map(|d| {
+                    let d = d.unwrap();
+                    let Directive::Shape(e) = d.directive else {
+                        panic!()
+                    };
+                    e.params[0].numbers()[11]
+                })
+                .enumerate()
+                .inspect(|(k, last)| assert_eq!(*k as f64, *last))
+                .count();
+            assert_eq!(count as u64, i);
+            // The file is 3 MiB; the window never held more than two chunks.
+            assert!(
+                parser.peak_window_bytes() <= 2 << 20,
+                "{}",
+                parser.peak_window_bytes()
+            );
+        });
         std::fs::remove_dir_all(&dir).ok();
     }
 }

@@ -9,7 +9,7 @@
 //!
 //! With two threads or more (rayon's pool), the window's text is cut into
 //! segments at lines that begin with a directive's keyword and the
-//! segments are parsed at once, one per thread ([`Source::parse_ahead`]).
+//! segments are parsed at once, two per thread ([`Source::parse_ahead`]).
 //! A line's start is never inside a comment, and inside a string only after
 //! a backslash-newline; a capitalised bare word there can only be a
 //! directive. Each segment is parsed as a whole text. Its directives are
@@ -197,8 +197,7 @@ impl Source {
                                     directive,
                                     at(start),
                                     window.len() - rest.len(),
-                                    start.starts_with(b"TransformBegin")
-                                        || start.starts_with(b"TransformEnd"),
+                                    deprecated(start),
                                 )
                             }
                         }
@@ -335,6 +334,12 @@ fn directive_line_at_or_after(text: &[u8], from: usize) -> Option<usize> {
     }
 }
 
+/// Whether the directive at the start of `text` is written with a
+/// deprecated name (TransformBegin/End).
+fn deprecated(text: &[u8]) -> bool {
+    text.starts_with(b"TransformBegin") || text.starts_with(b"TransformEnd")
+}
+
 /// The directives of a segment that starts with one and is read as a
 /// whole text (`offset`: its place in the file); `None` at any error.
 fn parse_segment(
@@ -348,13 +353,12 @@ fn parse_segment(
         let at = |r: &[u8]| offset + (text.len() - r.len());
         let locate = |r: &[u8]| Location::new(file.clone(), at(r));
         let (after, directive) = grammar::directive(rest, &locate).ok()?;
-        let deprecated = rest.starts_with(b"TransformBegin") || rest.starts_with(b"TransformEnd");
         directives.push((
             Located {
                 directive,
                 location: Location::new(file.clone(), at(rest)),
             },
-            deprecated,
+            deprecated(rest),
         ));
         rest = lexer::skip_space(after);
     }
