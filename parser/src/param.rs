@@ -252,9 +252,8 @@ fn listed<'a, T>(
         match rest.first() {
             Some(b']') => {
                 let list = match first {
-                    _ if !all.is_empty() => List::from(all),
                     Some(one) => List::one(one),
-                    None => List::empty(),
+                    None => List::from(all),
                 };
                 return Ok((&rest[1..], list));
             }

@@ -453,8 +453,8 @@ pub fn check(category: Category, kind: &str, params: &ParamSet, location: &Locat
 /// those of the last one it passed: whether [`check`] passes depends on
 /// nothing else (except a texture's, whose mapping is read from a value;
 /// textures are always checked). A hair file's hundreds of thousands of
-/// curves mostly share one signature; checking each was a quarter of the
-/// scene builder's time, which runs on one core while the parser's
+/// curves mostly share one signature; checking each was over a third of
+/// the scene builder's instructions, which runs on one core while the parser's
 /// segments are read on all of them.
 #[derive(Default)]
 pub struct Checker {
