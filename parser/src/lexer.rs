@@ -92,7 +92,7 @@ pub fn word(input: &[u8]) -> PResult<'_, &[u8]> {
 }
 
 /// A quoted string, with pbrt's backslash escapes (`\n \t \r \b \f \\ \"`
-/// and `\` before a newline). The string may not span lines. Borrowed from
+/// and `\` before a newline, the one way a string spans lines). Borrowed from
 /// the input unless it has escapes: most strings are names looked up or
 /// interned at once, and a scene of a million curves has millions of them.
 pub fn quoted_string(input: &[u8]) -> PResult<'_, Cow<'_, str>> {

@@ -130,17 +130,7 @@ fn cost_of(binary: &Bvh2, decisions: &mut [Decision], node: usize, max_per_leaf:
     } else {
         f32::INFINITY
     };
-    // The cheapest split's share for the left child (the first of equal
-    // ones), chosen by selects rather than branches: which split is
-    // cheapest is a coin toss to the branch predictor.
-    let mut cost_distribute = f32::INFINITY;
-    let mut split_left = u8::MAX;
-    for k in 0..7 {
-        let c = left_costs[k] + right_costs[6 - k];
-        let better = c < cost_distribute;
-        cost_distribute = if better { c } else { cost_distribute };
-        split_left = if better { k as u8 } else { split_left };
-    }
+    let (cost_distribute, split_left) = cheapest_split(&left_costs, &right_costs, 7, f32::INFINITY);
     let split_right = if split_left == u8::MAX {
         u8::MAX
     } else {
@@ -161,14 +151,8 @@ fn cost_of(binary: &Bvh2, decisions: &mut [Decision], node: usize, max_per_leaf:
     decisions[here] = previous;
     // At most i + 1 subtrees: as with i, or split between the children.
     for i in 1..7 {
-        let mut cost_distribute = previous.cost;
-        let mut split_left = u8::MAX;
-        for k in 0..i {
-            let c = left_costs[k] + right_costs[i - k - 1];
-            let better = c < cost_distribute;
-            cost_distribute = if better { c } else { cost_distribute };
-            split_left = if better { k as u8 } else { split_left };
-        }
+        let (cost_distribute, split_left) =
+            cheapest_split(&left_costs, &right_costs, i, previous.cost);
         let split = Decision {
             cost: cost_distribute,
             kind: Kind::Distribute,
@@ -183,6 +167,24 @@ fn cost_of(binary: &Bvh2, decisions: &mut [Decision], node: usize, max_per_leaf:
         decisions[here + i] = previous;
     }
     count
+}
+
+/// The cheapest split of `subtrees + 1` subtrees between a node's two
+/// children: the left child's cost-table index `k` (at most `k + 1`
+/// subtrees) and the right's `subtrees - 1 - k`, the first of equal ones;
+/// `(cost, u8::MAX)` when none is cheaper than `cost`. Chosen by selects
+/// rather than branches: which split is cheapest is a coin toss to the
+/// branch predictor.
+#[inline]
+fn cheapest_split(left: &[f32; 7], right: &[f32; 7], subtrees: usize, mut cost: f32) -> (f32, u8) {
+    let mut split_left = u8::MAX;
+    for k in 0..subtrees {
+        let c = left[k] + right[subtrees - 1 - k];
+        let better = c < cost;
+        cost = if better { c } else { cost };
+        split_left = if better { k as u8 } else { split_left };
+    }
+    (cost, split_left)
 }
 
 impl Output<'_> {
