@@ -78,6 +78,10 @@ pub(crate) struct Source {
     /// of a window that held too little for segments (so that it is not
     /// searched for them again before every directive).
     in_order_until: usize,
+    /// The vectors segments are parsed into, kept from one group to the
+    /// next: made afresh, each was mapped and unmapped per group, and that
+    /// held the process's memory-map lock while the other threads faulted.
+    segment_directives: Vec<Vec<(Located, bool)>>,
     /// Directives read from segments parsed in parallel (for tests).
     #[cfg(test)]
     from_segments: usize,
@@ -108,6 +112,7 @@ impl Source {
             ahead: VecDeque::new(),
             parallel: true,
             in_order_until: 0,
+            segment_directives: Vec::new(),
             #[cfg(test)]
             from_segments: 0,
         })
@@ -124,6 +129,7 @@ impl Source {
             ahead: VecDeque::new(),
             parallel: true,
             in_order_until: 0,
+            segment_directives: Vec::new(),
             #[cfg(test)]
             from_segments: 0,
         }
@@ -252,23 +258,29 @@ impl Source {
         let Some(cuts) = self.cut_segments()? else {
             return Ok(());
         };
+        let segments = cuts.len() - 1;
+        if self.segment_directives.len() < segments {
+            self.segment_directives.resize_with(segments, Vec::new);
+        }
         let (text, start, file) = (&self.buf[self.pos..], self.base + self.pos, &self.file);
-        let parsed: Vec<_> = cuts
-            .par_windows(2)
-            .map(|w| parse_segment(&text[w[0]..w[1]], start + w[0], file))
+        let parsed: Vec<bool> = self.segment_directives[..segments]
+            .par_iter_mut()
+            .zip(cuts.par_windows(2))
+            .map(|(directives, w)| parse_segment(&text[w[0]..w[1]], start + w[0], file, directives))
             .collect();
-        for (directives, cut) in parsed.into_iter().zip(&cuts) {
-            let Some(directives) = directives else {
+        for (k, parsed) in parsed.into_iter().enumerate() {
+            if !parsed {
                 // Read on in order from this segment's start.
-                self.pos += cut;
+                self.pos += cuts[k];
                 self.parallel = false;
+                self.segment_directives = Vec::new();
                 return Ok(());
-            };
+            }
             #[cfg(test)]
             {
-                self.from_segments += directives.len();
+                self.from_segments += self.segment_directives[k].len();
             }
-            self.ahead.extend(directives);
+            self.ahead.extend(self.segment_directives[k].drain(..));
         }
         self.pos += cuts[cuts.len() - 1];
         Ok(())
@@ -340,19 +352,23 @@ fn deprecated(text: &[u8]) -> bool {
     text.starts_with(b"TransformBegin") || text.starts_with(b"TransformEnd")
 }
 
-/// The directives of a segment that starts with one and is read as a
-/// whole text (`offset`: its place in the file); `None` at any error.
+/// Reads the directives of a segment that starts with one, as a whole
+/// text (`offset`: its place in the file), into `directives` (emptied
+/// first); `false` at any error.
 fn parse_segment(
     text: &[u8],
     offset: usize,
     file: &Arc<SourceFile>,
-) -> Option<Vec<(Located, bool)>> {
-    let mut directives = Vec::new();
+    directives: &mut Vec<(Located, bool)>,
+) -> bool {
+    directives.clear();
     let mut rest = lexer::skip_space(text);
     while !rest.is_empty() {
         let at = |r: &[u8]| offset + (text.len() - r.len());
         let locate = |r: &[u8]| Location::new(file.clone(), at(r));
-        let (after, directive) = grammar::directive(rest, &locate).ok()?;
+        let Ok((after, directive)) = grammar::directive(rest, &locate) else {
+            return false;
+        };
         directives.push((
             Located {
                 directive,
@@ -362,7 +378,7 @@ fn parse_segment(
         ));
         rest = lexer::skip_space(after);
     }
-    Some(directives)
+    true
 }
 
 enum Outcome {
