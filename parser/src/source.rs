@@ -102,26 +102,18 @@ impl Source {
         };
         let handle = std::fs::File::open(&file.path).map_err(cannot_read)?;
         let reader = decompressing_reader(&file.path, handle).map_err(cannot_read)?;
-        Ok(Source {
-            file: file.clone(),
-            reader: Some(reader),
-            buf: Vec::new(),
-            pos: 0,
-            base: 0,
-            peak_window: 0,
-            ahead: VecDeque::new(),
-            parallel: true,
-            in_order_until: 0,
-            segment_directives: Vec::new(),
-            #[cfg(test)]
-            from_segments: 0,
-        })
+        Ok(Self::new(file.clone(), Some(reader), Vec::new()))
     }
 
     pub fn from_text(file: Arc<SourceFile>, text: Vec<u8>) -> Self {
+        Self::new(file, None, text)
+    }
+
+    /// A source whose window holds `text`, then what `reader` gives.
+    fn new(file: Arc<SourceFile>, reader: Option<Box<dyn Read + Send>>, text: Vec<u8>) -> Self {
         Source {
             file,
-            reader: None,
+            reader,
             peak_window: text.len(),
             buf: text,
             pos: 0,
