@@ -72,11 +72,10 @@ pub(crate) struct Source {
     pub peak_window: usize,
     /// Directives parsed ahead from whole segments, the file's next ones.
     ahead: VecDeque<(Located, bool)>,
-    /// Whether segments are still parsed in parallel (until one fails).
-    parallel: bool,
     /// The file offset up to which directives are read in order: the end
     /// of a window that held too little for segments (so that it is not
-    /// searched for them again before every directive).
+    /// searched for them again before every directive), or the end of
+    /// everything once a segment failed.
     in_order_until: usize,
     /// The vectors segments are parsed into, kept from one group to the
     /// next: made afresh, each was mapped and unmapped per group, and that
@@ -119,7 +118,6 @@ impl Source {
             pos: 0,
             base: 0,
             ahead: VecDeque::new(),
-            parallel: true,
             in_order_until: 0,
             segment_directives: Vec::new(),
             #[cfg(test)]
@@ -244,7 +242,7 @@ impl Source {
     /// segments' text left at the end of the file, or a directive longer
     /// than the window.
     fn parse_ahead(&mut self) -> Result<(), ParseError> {
-        if !self.parallel || rayon::current_num_threads() < 2 {
+        if self.base + self.pos < self.in_order_until || rayon::current_num_threads() < 2 {
             return Ok(());
         }
         let Some(cuts) = self.cut_segments()? else {
@@ -264,7 +262,7 @@ impl Source {
             if !parsed {
                 // Read on in order from this segment's start.
                 self.pos += cuts[k];
-                self.parallel = false;
+                self.in_order_until = usize::MAX;
                 self.segment_directives = Vec::new();
                 return Ok(());
             }
@@ -282,9 +280,6 @@ impl Source {
     /// `pos`, the first 0): about two segments per thread, read first
     /// when the window holds less; `None` where there are not two.
     fn cut_segments(&mut self) -> Result<Option<Vec<usize>>, ParseError> {
-        if self.base + self.pos < self.in_order_until {
-            return Ok(None);
-        }
         let group = rayon::current_num_threads() * SEGMENTS_PER_THREAD * SEGMENT;
         while self.buf.len() - self.pos < group && !self.at_eof() {
             self.read_more()?;
