@@ -293,15 +293,20 @@ fn split_into_groups<'a>(
     };
     let median = members.len() / 2;
     let middle = match split {
-        Split::Median => median,
-        // Each half must keep enough primitives for its groups.
-        Split::SurfaceArea => surface_area_split(members, aabbs, axis, lo, hi)
-            .clamp(count / 2, members.len() - count / 2),
+        Split::Median => select(members, median, axis),
+        Split::SurfaceArea => {
+            let plane = surface_area_split(members, aabbs, axis, lo, hi);
+            let wanted = plane.as_ref().map_or(median, |p| p.left_count);
+            // Each half must keep enough primitives for its groups.
+            let middle = wanted.clamp(count / 2, members.len() - count / 2);
+            match plane {
+                // The bins' own halves: one pass, where selecting them by
+                // centroid took several.
+                Some(plane) if middle == wanted => partition(members, |m| plane.goes_left(m)),
+                _ => select(members, middle, axis),
+            }
+        }
     };
-    // The `middle` smallest centroids along the axis go left (ties in
-    // index order): the same halves as the bins' split plane, up to ties
-    // at the plane.
-    members.select_nth_unstable_by_key(middle, |m| m.key(axis));
     let (left, right) = members.split_at_mut(middle);
     let (mut groups, right_groups) = rayon::join(
         || split_into_groups(left, aabbs, split, count / 2),
@@ -314,24 +319,72 @@ fn split_into_groups<'a>(
 /// Bins of centroids along the split axis for [`Split::SurfaceArea`].
 const BINS: usize = 32;
 
-/// How many of `members` go to the left half: the boundary between two of
-/// [`BINS`] equal bins of the centroids along `axis` (from `lo` to `hi`)
-/// where the halves' surface area heuristic, area × count summed over the
-/// two halves, is least. The median when all centroids share one bin.
+/// Moves the `middle` smallest centroids along `axis` (ties in index
+/// order) before the others; returns `middle`.
+fn select(members: &mut [Member], middle: usize, axis: usize) -> usize {
+    members.select_nth_unstable_by_key(middle, |m| m.key(axis));
+    middle
+}
+
+/// Moves the members for which `goes_left` holds before the others, in
+/// one pass without branches on it (the halves' order within is
+/// arbitrary); returns how many there are.
+fn partition(members: &mut [Member], goes_left: impl Fn(&Member) -> bool) -> usize {
+    // members[..left] go left, members[left..i] go right.
+    let mut left = 0;
+    for i in 0..members.len() {
+        let goes = goes_left(&members[i]);
+        members.swap(left, i);
+        left += usize::from(goes);
+    }
+    left
+}
+
+/// The halving [`surface_area_split`] chooses: the members whose
+/// centroids fall in the bins before `first_right_bin`.
+struct BinPlane {
+    axis: usize,
+    lo: f32,
+    scale: f32,
+    first_right_bin: usize,
+    /// How many members go left.
+    left_count: usize,
+}
+
+impl BinPlane {
+    /// The bin of `m`'s centroid, of [`BINS`] equal bins from `lo` on.
+    fn bin(&self, m: &Member) -> usize {
+        (((m.centroid[self.axis] - self.lo) * self.scale) as usize).min(BINS - 1)
+    }
+
+    fn goes_left(&self, m: &Member) -> bool {
+        self.bin(m) < self.first_right_bin
+    }
+}
+
+/// The boundary between two of [`BINS`] equal bins of the centroids along
+/// `axis` (from `lo` to `hi`) where the halves' surface area heuristic,
+/// area × count summed over the two halves, is least; `None` when all
+/// centroids share one bin.
 fn surface_area_split(
     members: &[Member],
     aabbs: &[Aabb],
     axis: usize,
     lo: Vec3A,
     hi: Vec3A,
-) -> usize {
+) -> Option<BinPlane> {
     let n = members.len();
     let (lo, hi) = (lo[axis], hi[axis]);
     if hi <= lo {
-        return n / 2;
+        return None;
     }
-    let scale = BINS as f32 / (hi - lo);
-    let bin = |m: &Member| (((m.centroid[axis] - lo) * scale) as usize).min(BINS - 1);
+    let mut plane = BinPlane {
+        axis,
+        lo,
+        scale: BINS as f32 / (hi - lo),
+        first_right_bin: 0,
+        left_count: 0,
+    };
     // Each chunk's bins filled in place (a fold moving the 1.3 kB of bins
     // per primitive costs more than the binning).
     let (boxes, counts) = members
@@ -340,7 +393,7 @@ fn surface_area_split(
             let mut boxes = [Aabb::empty(); BINS];
             let mut counts = [0usize; BINS];
             for m in chunk {
-                let k = bin(m);
+                let k = plane.bin(m);
                 boxes[k] = boxes[k].union(&aabbs[m.index as usize]);
                 counts[k] += 1;
             }
@@ -364,7 +417,7 @@ fn surface_area_split(
         right_count += counts[k];
         right_cost[k] = right.half_area() * right_count as f32;
     }
-    let mut best = (f32::INFINITY, n / 2);
+    let mut best_cost = f32::INFINITY;
     let (mut left, mut left_count) = (Aabb::empty(), 0);
     for k in 1..BINS {
         left = left.union(&boxes[k - 1]);
@@ -373,11 +426,12 @@ fn surface_area_split(
             continue;
         }
         let cost = left.half_area() * left_count as f32 + right_cost[k];
-        if cost < best.0 {
-            best = (cost, left_count);
+        if cost < best_cost {
+            best_cost = cost;
+            (plane.first_right_bin, plane.left_count) = (k, left_count);
         }
     }
-    best.1
+    (plane.first_right_bin > 0).then_some(plane)
 }
 
 /// One tree of the eight `parts`: a root node whose children are the
@@ -586,7 +640,35 @@ mod tests {
         let hi = boxes
             .iter()
             .fold(Vec3A::NEG_INFINITY, |a, b| a.max(b.center()));
-        assert_eq!(surface_area_split(&members, &boxes, 0, lo, hi), 300);
+        let plane = surface_area_split(&members, &boxes, 0, lo, hi);
+        assert_eq!(plane.map(|p| p.left_count), Some(300));
+    }
+
+    /// The bins' halves, taken in one pass, are the halves that selecting
+    /// the same number of smallest centroids gives: the bins are in the
+    /// centroids' order.
+    #[test]
+    fn the_bins_halves_are_the_smallest_centroids() {
+        let boxes = random_boxes(5000, 3);
+        let members = Member::all(&boxes);
+        let lo = boxes.iter().fold(Vec3A::INFINITY, |a, b| a.min(b.center()));
+        let hi = boxes
+            .iter()
+            .fold(Vec3A::NEG_INFINITY, |a, b| a.max(b.center()));
+        for axis in 0..3 {
+            let plane = surface_area_split(&members, &boxes, axis, lo, hi).unwrap();
+            let (mut by_bins, mut selected) = (members.clone(), members.clone());
+            let left = partition(&mut by_bins, |m| plane.goes_left(m));
+            assert_eq!(left, plane.left_count);
+            assert!(left > 0 && left < members.len());
+            select(&mut selected, left, axis);
+            let sorted = |half: &[Member]| {
+                let mut indices: Vec<u32> = half.iter().map(|m| m.index).collect();
+                indices.sort_unstable();
+                indices
+            };
+            assert_eq!(sorted(&by_bins[..left]), sorted(&selected[..left]));
+        }
     }
 
     /// Parts in parts (three levels here) with surface-area splits: a valid
