@@ -39,6 +39,8 @@ enum Command {
     Report(bench_handoff::HandOffArgs),
     /// Parse and build time and peak memory on a generated curve file against pbrt-v4 (run by rpbrt-bench).
     Curves(bench_handoff::HandOffArgs),
+    /// Whole renders of scenes at several thread counts against pbrt-v4 (run by rpbrt-bench).
+    Scaling(bench_handoff::HandOffArgs),
     /// The dual hair model's azimuthal scattering maps and diffraction spectra.
     Bcsdf(bcsdf::BcsdfArgs),
     /// Writes a CyHair (.hair) file as pbrt-v4 curves.
@@ -71,6 +73,7 @@ fn main() -> ExitCode {
         Some(Command::Convergence(args)) => (bench_handoff::run("convergence", args), 1),
         Some(Command::Report(args)) => (bench_handoff::run("report", args), 1),
         Some(Command::Curves(args)) => (bench_handoff::run("curves", args), 1),
+        Some(Command::Scaling(args)) => (bench_handoff::run("scaling", args), 1),
         Some(Command::Bcsdf(args)) => (
             bcsdf::run(args)
                 .map(|()| ExitCode::SUCCESS)

@@ -4,10 +4,7 @@
 //! curves, 120 MB, one hair material, 16 × 16 pixels, 1 spp).
 //!
 //! Each measurement is a separate child process (`rpbrt FILE --stats`, and
-//! pbrt-v4 with `--pbrt`), so that its peak resident memory is its own:
-//! the operating system's figure for the child (`wait4`'s `ru_maxrss`),
-//! with its user and system CPU time; parse and build times come from
-//! `--stats`. Programs are run in interleaved rounds (every program once
+//! pbrt-v4 with `--pbrt`; `child.rs`). Programs are run in interleaved rounds (every program once
 //! per round), so that a machine's slow minute falls on all of them, and
 //! the table gives medians over the rounds.
 //!
@@ -23,12 +20,11 @@
 //!
 //! `rpbrt report` keeps that section when it rewrites the report.
 
+use crate::child::{measure, Measured, Program, RenderSettings};
 use crate::error::{io_error, Error, Result};
-use crate::executable::rpbrt_executable;
 use crate::provenance::{commit, machine, median, today};
 use std::fmt::Write;
-use std::path::{Path, PathBuf};
-use std::time::Instant;
+use std::path::PathBuf;
 
 #[derive(clap::Args, Debug)]
 pub struct CurvesArgs {
@@ -91,25 +87,6 @@ pub fn section_of(report: &str) -> Option<&str> {
     section_range(report, HEADING).map(|range| &report[range])
 }
 
-/// What one child process took.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Measured {
-    pub wall_s: f64,
-    /// User + system CPU time.
-    pub cpu_s: f64,
-    pub peak_mb: f64,
-    /// From `rpbrt --stats` (None for pbrt-v4).
-    pub parse_s: Option<f64>,
-    pub build_s: Option<f64>,
-}
-
-/// A program the table has a row for.
-struct Program {
-    label: String,
-    executable: PathBuf,
-    is_pbrt: bool,
-}
-
 pub fn run(args: &CurvesArgs) -> Result<()> {
     if args.rounds == 0 || args.threads.is_empty() || args.threads.contains(&0) {
         return Err(Error::Usage(
@@ -125,25 +102,7 @@ pub fn run(args: &CurvesArgs) -> Result<()> {
     let megabytes = text.len() as f64 / 1e6;
     drop(text);
 
-    let mut programs = vec![Program {
-        label: "rpbrt".into(),
-        executable: rpbrt_executable()?,
-        is_pbrt: false,
-    }];
-    if let Some(baseline) = &args.baseline {
-        programs.push(Program {
-            label: format!("rpbrt (baseline {})", baseline.display()),
-            executable: baseline.clone(),
-            is_pbrt: false,
-        });
-    }
-    if let Some(pbrt) = &args.pbrt {
-        programs.push(Program {
-            label: "pbrt-v4".into(),
-            executable: pbrt.clone(),
-            is_pbrt: true,
-        });
-    }
+    let programs = Program::all(args.baseline.as_deref(), args.pbrt.as_deref())?;
     let out_dir = std::env::temp_dir();
     // results[threads][program] = one Measured per round.
     let mut results = vec![vec![Vec::new(); programs.len()]; args.threads.len()];
@@ -157,7 +116,12 @@ pub fn run(args: &CurvesArgs) -> Result<()> {
                     program.label
                 );
                 let image = out_dir.join(format!("rpbrt-curves-{}-{p}.exr", std::process::id()));
-                let measured = measure(program, &file, threads, &image)?;
+                let settings = RenderSettings {
+                    threads,
+                    spp: None,
+                    seed: None,
+                };
+                let measured = measure(program, &file, settings, &image)?;
                 let _ = std::fs::remove_file(&image);
                 results[t][p].push(measured);
             }
@@ -178,125 +142,6 @@ pub fn run(args: &CurvesArgs) -> Result<()> {
         None => print!("{table}"),
     }
     Ok(())
-}
-
-/// Runs `program` on `scene` with `threads` threads and measures it.
-fn measure(program: &Program, scene: &Path, threads: usize, image: &Path) -> Result<Measured> {
-    let mut command = std::process::Command::new(&program.executable);
-    command.arg("--nthreads").arg(threads.to_string());
-    if program.is_pbrt {
-        command
-            .arg("--quiet")
-            .arg("--outfile")
-            .arg(image)
-            .arg(scene);
-    } else {
-        command
-            .arg(scene)
-            .args(["--quiet", "--stats", "--outfile"])
-            .arg(image);
-    }
-    let (output, usage) = run_child(command, &program.executable)?;
-    if !output.status.success() {
-        return Err(Error::Usage(format!(
-            "{} failed on {}: {}",
-            program.executable.display(),
-            scene.display(),
-            String::from_utf8_lossy(&output.stderr).trim()
-        )));
-    }
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    Ok(Measured {
-        wall_s: usage.wall_s,
-        cpu_s: usage.cpu_s,
-        peak_mb: usage.peak_mb,
-        parse_s: stats_seconds(&stdout, "parse: "),
-        build_s: stats_seconds(&stdout, "build: "),
-    })
-}
-
-/// Seconds on the `--stats` line starting with `prefix` (`parse: 1.23 s`).
-pub fn stats_seconds(stats: &str, prefix: &str) -> Option<f64> {
-    stats.lines().find_map(|l| {
-        l.strip_prefix(prefix)?
-            .strip_suffix(" s")?
-            .trim()
-            .parse()
-            .ok()
-    })
-}
-
-/// A finished child's resource use.
-struct Usage {
-    wall_s: f64,
-    cpu_s: f64,
-    peak_mb: f64,
-}
-
-/// Runs `command` to the end (its output captured) and returns what the
-/// operating system counted for it: `wait4` gives the child's own peak
-/// resident memory and CPU time.
-#[cfg(unix)]
-fn run_child(
-    mut command: std::process::Command,
-    executable: &Path,
-) -> Result<(std::process::Output, Usage)> {
-    use std::io::Read;
-    use std::os::unix::process::ExitStatusExt;
-    let start = Instant::now();
-    let mut child = command
-        .stdout(std::process::Stdio::piped())
-        .stderr(std::process::Stdio::piped())
-        .spawn()
-        .map_err(io_error(executable))?;
-    let (mut stdout, mut stderr) = (Vec::new(), Vec::new());
-    // Read both pipes to their end before waiting (a full pipe would block
-    // the child); stderr on its own thread.
-    let mut err_pipe = child.stderr.take();
-    let err_reader = std::thread::spawn(move || {
-        let mut buffer = Vec::new();
-        if let Some(pipe) = err_pipe.as_mut() {
-            let _ = pipe.read_to_end(&mut buffer);
-        }
-        buffer
-    });
-    if let Some(pipe) = child.stdout.as_mut() {
-        let _ = pipe.read_to_end(&mut stdout);
-    }
-    stderr.extend(err_reader.join().unwrap_or_default());
-    let mut status: libc::c_int = 0;
-    // SAFETY: an all-zero rusage is a valid value for wait4 to fill.
-    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
-    // SAFETY: waits for our own child, which `child` never waits for.
-    let pid = unsafe { libc::wait4(child.id() as libc::pid_t, &mut status, 0, &mut usage) };
-    if pid < 0 {
-        return Err(io_error(executable)(std::io::Error::last_os_error()));
-    }
-    let wall_s = start.elapsed().as_secs_f64();
-    let seconds = |t: libc::timeval| t.tv_sec as f64 + t.tv_usec as f64 * 1e-6;
-    Ok((
-        std::process::Output {
-            status: std::process::ExitStatus::from_raw(status),
-            stdout,
-            stderr,
-        },
-        Usage {
-            wall_s,
-            cpu_s: seconds(usage.ru_utime) + seconds(usage.ru_stime),
-            // ru_maxrss is in kilobytes on Linux.
-            peak_mb: usage.ru_maxrss as f64 / 1024.0,
-        },
-    ))
-}
-
-#[cfg(not(unix))]
-fn run_child(
-    _command: std::process::Command,
-    _executable: &Path,
-) -> Result<(std::process::Output, Usage)> {
-    Err(Error::Usage(
-        "curves: a child's peak memory is read with wait4, on unix only".into(),
-    ))
 }
 
 /// The Markdown table: one row per thread count and program, medians over
@@ -377,32 +222,5 @@ mod tests {
             splice_section(&last, HEADING, &new, dual),
             format!("# P\n{new}")
         );
-    }
-
-    #[test]
-    fn reads_the_stats_lines() {
-        let stats = "wrote x.exr\nparse: 1.479 s\nbuild: 6.956 s\nrender: 0.168 s (0.073 s CPU)\n";
-        assert_eq!(stats_seconds(stats, "parse: "), Some(1.479));
-        assert_eq!(stats_seconds(stats, "build: "), Some(6.956));
-        assert_eq!(stats_seconds(stats, "bake: "), None);
-    }
-
-    /// The operating system's count is the child's own: a child that
-    /// touches 64 MB peaks above that, and one that does nothing far below.
-    #[cfg(target_os = "linux")]
-    #[test]
-    fn a_child_s_peak_memory_is_its_own() {
-        let run = |script: &str| {
-            let mut command = std::process::Command::new("sh");
-            command.arg("-c").arg(script);
-            run_child(command, Path::new("sh")).unwrap().1
-        };
-        // `head -c` of /dev/zero into a shell variable would need bash;
-        // dd with a 64 MB block holds the whole block in memory.
-        let big = run("dd if=/dev/zero of=/dev/null bs=64M count=1 2>/dev/null");
-        let small = run("true");
-        assert!(big.peak_mb > 64.0, "{}", big.peak_mb);
-        assert!(small.peak_mb < 32.0, "{}", small.peak_mb);
-        assert!(big.wall_s >= 0.0 && big.cpu_s >= 0.0);
     }
 }

@@ -1,8 +1,8 @@
-//! The `rpbrt-bench` command line: `convergence`, `report` and `curves`, also run as
-//! `rpbrt convergence`, `rpbrt report` and `rpbrt curves`. Argument dispatch only.
+//! The `rpbrt-bench` command line: `convergence`, `report`, `curves` and `scaling`, also
+//! run as `rpbrt convergence`, `rpbrt report`, `rpbrt curves` and `rpbrt scaling`. Argument dispatch only.
 
 use clap::Parser as _;
-use rpbrt_bench::{convergence, curves, report};
+use rpbrt_bench::{convergence, curves, report, scaling};
 use std::process::ExitCode;
 
 /// rpbrt's benchmark harness: error against time, and the performance
@@ -20,6 +20,8 @@ enum Command {
     Report(report::ReportArgs),
     /// Parse and build time and peak memory on a generated curve file (the refs README's 120 MB form).
     Curves(curves::CurvesArgs),
+    /// Whole renders of scenes at several thread counts beside pbrt-v4: time, memory, speed-up.
+    Scaling(scaling::ScalingArgs),
 }
 
 fn main() -> ExitCode {
@@ -28,6 +30,7 @@ fn main() -> ExitCode {
         Command::Convergence(args) => convergence::run(args),
         Command::Report(args) => report::run(args),
         Command::Curves(args) => curves::run(args),
+        Command::Scaling(args) => scaling::run(args),
     };
     match outcome {
         Ok(()) => ExitCode::SUCCESS,
