@@ -4,9 +4,9 @@
 //! curves, 120 MB, one hair material, 16 × 16 pixels, 1 spp).
 //!
 //! Each measurement is a separate child process (`rpbrt FILE --stats`, and
-//! pbrt-v4 with `--pbrt`; `child.rs`). Programs are run in interleaved rounds (every program once
-//! per round), so that a machine's slow minute falls on all of them, and
-//! the table gives medians over the rounds.
+//! pbrt-v4 with `--pbrt`; `child.rs`). Programs are run in interleaved
+//! rounds (every program once per round), so that a machine's slow minute
+//! falls on all of them, and the table gives medians over the rounds.
 //!
 //! | option | default | meaning |
 //! |---|---|---|

@@ -35,7 +35,7 @@ fuzz_target!(|data: &[u8]| {
         outfile: Some("/nonexistent-rpbrt-fuzz/out.exr".into()),
         ..Default::default()
     };
-    match build(&loaded.scene, &overrides) {
+    match build(loaded.scene, &overrides) {
         Ok(built) => {
             let ray = Ray::new(Vec3::new(0.1, 0.2, -10.0), Vec3::new(0.01, 0.02, 1.0), 0.5);
             let _ = built.intersect(&ray, f32::INFINITY);
