@@ -12,10 +12,10 @@
 //! prose is `bench/templates/report.md`; this file computes the figures
 //! and formats the tables' rows.
 
+use crate::child::{measure, Program, RenderSettings};
 use crate::convergence::{self, curve, time_at_error, Measurement, Renderer, Run};
 use crate::dual_overhead;
 use crate::error::{io_error, Error};
-use crate::executable::rpbrt_executable;
 use crate::provenance::{build_kind, commit, machine, median, today};
 use crate::steal::time_without_steal;
 use crate::template::Template;
@@ -134,32 +134,19 @@ pub fn parse_reference_table(readme: &str) -> Vec<ReferenceRow> {
         .collect()
 }
 
-/// Peak memory (MB) of a child `rpbrt --stats` render of `scene` at 1 spp.
+/// Peak memory (MB) of a child `rpbrt` render of `scene` at 1 spp, as the
+/// operating system counts it (`child.rs`).
 fn peak_memory_mb(scene: &Path, threads: usize, out: &Path) -> Option<u64> {
-    let exe = rpbrt_executable()
+    let settings = RenderSettings {
+        threads,
+        spp: Some(1),
+        seed: None,
+    };
+    Program::all(None, None)
+        .and_then(|programs| measure(&programs[0], scene, settings, out))
+        .map(|measured| measured.peak_mb.round() as u64)
         .map_err(|e| eprintln!("peak memory not measured: {e}"))
-        .ok()?;
-    let output = std::process::Command::new(exe)
-        .arg(scene)
-        .args([
-            "--spp",
-            "1",
-            "--quiet",
-            "--stats",
-            "--nthreads",
-            &threads.to_string(),
-            "--outfile",
-        ])
-        .arg(out)
-        .output()
-        .ok()?;
-    let stdout = String::from_utf8_lossy(&output.stdout);
-    stdout.lines().find_map(|l| {
-        l.strip_prefix("peak memory: ")?
-            .strip_suffix(" MB")?
-            .parse()
-            .ok()
-    })
+        .ok()
 }
 
 /// What the report says about one scene.
