@@ -30,14 +30,19 @@ pub struct Program {
 }
 
 impl Program {
-    /// The programs to measure: the `rpbrt` beside this harness, then
-    /// `baseline` (another rpbrt build) and `pbrt` (pbrt-v4) where given.
-    pub fn all(baseline: Option<&Path>, pbrt: Option<&Path>) -> Result<Vec<Program>> {
-        let mut programs = vec![Program {
+    /// The `rpbrt` beside this harness.
+    pub fn rpbrt() -> Result<Program> {
+        Ok(Program {
             label: "rpbrt".into(),
             executable: rpbrt_executable()?,
             is_pbrt: false,
-        }];
+        })
+    }
+
+    /// The programs to measure: the `rpbrt` beside this harness, then
+    /// `baseline` (another rpbrt build) and `pbrt` (pbrt-v4) where given.
+    pub fn all(baseline: Option<&Path>, pbrt: Option<&Path>) -> Result<Vec<Program>> {
+        let mut programs = vec![Program::rpbrt()?];
         if let Some(baseline) = baseline {
             programs.push(Program {
                 label: format!("rpbrt (baseline {})", baseline.display()),

@@ -142,8 +142,8 @@ fn peak_memory_mb(scene: &Path, threads: usize, out: &Path) -> Option<u64> {
         spp: Some(1),
         seed: None,
     };
-    Program::all(None, None)
-        .and_then(|programs| measure(&programs[0], scene, settings, out))
+    Program::rpbrt()
+        .and_then(|rpbrt| measure(&rpbrt, scene, settings, out))
         .map(|measured| measured.peak_mb.round() as u64)
         .map_err(|e| eprintln!("peak memory not measured: {e}"))
         .ok()
