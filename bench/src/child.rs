@@ -21,6 +21,43 @@ pub struct Measured {
     pub build_s: Option<f64>,
 }
 
+/// The options `curves` and `scaling` share: the thread counts, the
+/// rounds, and the programs measured beside rpbrt.
+#[derive(clap::Args, Debug)]
+pub struct MeasureArgs {
+    /// Thread counts to measure, comma separated.
+    #[arg(long, value_delimiter = ',', default_value = "1,2")]
+    pub threads: Vec<usize>,
+    /// Interleaved rounds (each program once per round); medians are given.
+    #[arg(long, default_value_t = 3)]
+    pub rounds: usize,
+    /// Another rpbrt executable to measure beside this one (e.g. an older
+    /// build, for a before/after table).
+    #[arg(long)]
+    pub baseline: Option<PathBuf>,
+    /// A pbrt-v4 executable to measure beside rpbrt.
+    #[arg(long)]
+    pub pbrt: Option<PathBuf>,
+}
+
+impl MeasureArgs {
+    /// At least one round and one thread count, none of them 0
+    /// (`command` names the subcommand in the error).
+    pub fn check(&self, command: &str) -> Result<()> {
+        if self.rounds == 0 || self.threads.is_empty() || self.threads.contains(&0) {
+            return Err(Error::Usage(format!(
+                "{command}: --rounds and every --threads count must be at least 1"
+            )));
+        }
+        Ok(())
+    }
+
+    /// rpbrt, then the baseline and pbrt-v4 where given.
+    pub fn programs(&self) -> Result<Vec<Program>> {
+        Program::all(self.baseline.as_deref(), self.pbrt.as_deref())
+    }
+}
+
 /// A program a table has rows for.
 pub struct Program {
     pub label: String,

@@ -20,8 +20,8 @@
 //!
 //! `rpbrt report` keeps that section when it rewrites the report.
 
-use crate::child::{measure, Measured, Program, RenderSettings};
-use crate::error::{io_error, Error, Result};
+use crate::child::{measure, MeasureArgs, Measured, Program, RenderSettings};
+use crate::error::{io_error, Result};
 use crate::provenance::{commit, machine, median, today};
 use std::fmt::Write;
 use std::path::PathBuf;
@@ -31,23 +31,12 @@ pub struct CurvesArgs {
     /// Curves in the generated file (606208: the refs README's 120 MB).
     #[arg(long, default_value_t = 606_208)]
     pub lines: usize,
-    /// Thread counts to measure, comma separated.
-    #[arg(long, value_delimiter = ',', default_value = "1,2")]
-    pub threads: Vec<usize>,
-    /// Interleaved rounds (each program once per round); medians are given.
-    #[arg(long, default_value_t = 3)]
-    pub rounds: usize,
+    #[command(flatten)]
+    pub measuring: MeasureArgs,
     /// Where to write the generated scene (kept); else a temporary file,
     /// removed afterwards.
     #[arg(long)]
     pub file: Option<PathBuf>,
-    /// Another rpbrt executable to measure beside this one (e.g. an older
-    /// build, for a before/after table).
-    #[arg(long)]
-    pub baseline: Option<PathBuf>,
-    /// A pbrt-v4 executable to measure beside rpbrt.
-    #[arg(long)]
-    pub pbrt: Option<PathBuf>,
     /// A report (e.g. docs/performance.md) to write the table into, as its
     /// section "## Memory and build at scale"; else printed.
     #[arg(long)]
@@ -88,11 +77,7 @@ pub fn section_of(report: &str) -> Option<&str> {
 }
 
 pub fn run(args: &CurvesArgs) -> Result<()> {
-    if args.rounds == 0 || args.threads.is_empty() || args.threads.contains(&0) {
-        return Err(Error::Usage(
-            "curves: --rounds and every --threads count must be at least 1".into(),
-        ));
-    }
+    args.measuring.check("curves")?;
     let temporary = args.file.is_none();
     let file = args.file.clone().unwrap_or_else(|| {
         std::env::temp_dir().join(format!("rpbrt-curves-{}.pbrt", std::process::id()))
@@ -102,17 +87,17 @@ pub fn run(args: &CurvesArgs) -> Result<()> {
     let megabytes = text.len() as f64 / 1e6;
     drop(text);
 
-    let programs = Program::all(args.baseline.as_deref(), args.pbrt.as_deref())?;
+    let programs = args.measuring.programs()?;
     let out_dir = std::env::temp_dir();
     // results[threads][program] = one Measured per round.
-    let mut results = vec![vec![Vec::new(); programs.len()]; args.threads.len()];
-    for round in 0..args.rounds {
-        for (t, &threads) in args.threads.iter().enumerate() {
+    let mut results = vec![vec![Vec::new(); programs.len()]; args.measuring.threads.len()];
+    for round in 0..args.measuring.rounds {
+        for (t, &threads) in args.measuring.threads.iter().enumerate() {
             for (p, program) in programs.iter().enumerate() {
                 eprintln!(
                     "round {}/{}: {} with {threads} thread(s)",
                     round + 1,
-                    args.rounds,
+                    args.measuring.rounds,
                     program.label
                 );
                 let image = out_dir.join(format!("rpbrt-curves-{}-{p}.exr", std::process::id()));
@@ -161,14 +146,14 @@ fn table(
         machine(),
         commit(),
         args.lines,
-        args.rounds
+        args.measuring.rounds
     );
     out.push_str(
         "| threads | program | wall s | CPU s (user + sys) | parse s | build s | peak memory | memory ÷ rpbrt's | wall ÷ rpbrt's |\n\
          |---|---|---|---|---|---|---|---|---|\n",
     );
     let optional = |v: Option<f64>| v.map_or("—".to_string(), |s| format!("{s:.2}"));
-    for (t, &threads) in args.threads.iter().enumerate() {
+    for (t, &threads) in args.measuring.threads.iter().enumerate() {
         let med = |p: usize, f: &dyn Fn(&Measured) -> Option<f64>| {
             median(results[t][p].iter().filter_map(f).collect())
         };

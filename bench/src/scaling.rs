@@ -22,7 +22,7 @@
 //! | `--baseline` | — | another `rpbrt` executable to measure beside this one (before/after) |
 //! | `--pbrt` | — | a pbrt-v4 executable to measure beside rpbrt |
 
-use crate::child::{measure, Measured, Program, RenderSettings};
+use crate::child::{measure, MeasureArgs, Measured, Program, RenderSettings};
 use crate::error::{Error, Result};
 use crate::provenance::{commit, machine, median, today};
 use std::fmt::Write;
@@ -33,32 +33,22 @@ pub struct ScalingArgs {
     /// Scene files to render, comma separated.
     #[arg(long, value_delimiter = ',', required = true)]
     pub scenes: Vec<PathBuf>,
-    /// Thread counts to measure, comma separated; speed-ups are over the first.
-    #[arg(long, value_delimiter = ',', default_value = "1,2")]
-    pub threads: Vec<usize>,
     /// Samples per pixel of every render.
     #[arg(long, default_value_t = 16)]
     pub spp: u32,
     /// The seed of every render.
     #[arg(long, default_value_t = 100)]
     pub seed: u64,
-    /// Interleaved rounds (each render once per round); medians are given.
-    #[arg(long, default_value_t = 3)]
-    pub rounds: usize,
-    /// Another rpbrt executable to measure beside this one (e.g. an older
-    /// build, for a before/after table).
-    #[arg(long)]
-    pub baseline: Option<PathBuf>,
-    /// A pbrt-v4 executable to measure beside rpbrt.
-    #[arg(long)]
-    pub pbrt: Option<PathBuf>,
+    /// The thread counts (speed-ups are over the first), rounds and
+    /// programs.
+    #[command(flatten)]
+    pub measuring: MeasureArgs,
 }
 
 pub fn run(args: &ScalingArgs) -> Result<()> {
-    if args.rounds == 0 || args.spp == 0 || args.threads.is_empty() || args.threads.contains(&0) {
-        return Err(Error::Usage(
-            "scaling: --rounds, --spp and every --threads count must be at least 1".into(),
-        ));
+    args.measuring.check("scaling")?;
+    if args.spp == 0 {
+        return Err(Error::Usage("scaling: --spp must be at least 1".into()));
     }
     if let Some(missing) = args.scenes.iter().find(|s| !s.is_file()) {
         return Err(Error::Usage(format!(
@@ -66,19 +56,21 @@ pub fn run(args: &ScalingArgs) -> Result<()> {
             missing.display()
         )));
     }
-    let programs = Program::all(args.baseline.as_deref(), args.pbrt.as_deref())?;
+    let programs = args.measuring.programs()?;
     let image = std::env::temp_dir().join(format!("rpbrt-scaling-{}.exr", std::process::id()));
     // results[scene][threads][program]: one Measured per round.
-    let mut results =
-        vec![vec![vec![Vec::new(); programs.len()]; args.threads.len()]; args.scenes.len()];
-    for round in 0..args.rounds {
+    let mut results = vec![
+        vec![vec![Vec::new(); programs.len()]; args.measuring.threads.len()];
+        args.scenes.len()
+    ];
+    for round in 0..args.measuring.rounds {
         for (s, scene) in args.scenes.iter().enumerate() {
-            for (t, &threads) in args.threads.iter().enumerate() {
+            for (t, &threads) in args.measuring.threads.iter().enumerate() {
                 for (p, program) in programs.iter().enumerate() {
                     eprintln!(
                         "round {}/{}: {} on {} with {threads} thread(s)",
                         round + 1,
-                        args.rounds,
+                        args.measuring.rounds,
                         program.label,
                         scene.display()
                     );
@@ -111,8 +103,8 @@ fn table(args: &ScalingArgs, programs: &[Program], results: &[Vec<Vec<Vec<Measur
         commit(),
         args.spp,
         args.seed,
-        args.rounds,
-        args.threads[0],
+        args.measuring.rounds,
+        args.measuring.threads[0],
     );
     out.push_str(
         "| scene | threads | program | wall s | CPU s (user + sys) | peak memory | speed-up | \
@@ -127,7 +119,7 @@ fn table(args: &ScalingArgs, programs: &[Program], results: &[Vec<Vec<Vec<Measur
         let med = |t: usize, p: usize, f: fn(&Measured) -> f64| {
             median(results[s][t][p].iter().map(f).collect())
         };
-        for t in 0..args.threads.len() {
+        for t in 0..args.measuring.threads.len() {
             for (p, program) in programs.iter().enumerate() {
                 let wall = med(t, p, |m| m.wall_s);
                 let peak = med(t, p, |m| m.peak_mb);
@@ -142,7 +134,7 @@ fn table(args: &ScalingArgs, programs: &[Program], results: &[Vec<Vec<Vec<Measur
                 let _ = writeln!(
                     out,
                     "| {name} | {} | {} | {} | {} | {} | {speed_up} | {to_pbrt_wall} | {to_pbrt_peak} |",
-                    args.threads[t],
+                    args.measuring.threads[t],
                     program.label,
                     seconds(wall),
                     seconds(med(t, p, |m| m.cpu_s)),
@@ -177,12 +169,14 @@ mod tests {
     fn the_table_gives_speed_ups_and_ratios_to_pbrt() {
         let args = ScalingArgs {
             scenes: vec![PathBuf::from("scenes/hair.pbrt")],
-            threads: vec![1, 4],
             spp: 8,
             seed: 1,
-            rounds: 2,
-            baseline: None,
-            pbrt: None,
+            measuring: MeasureArgs {
+                threads: vec![1, 4],
+                rounds: 2,
+                baseline: None,
+                pbrt: None,
+            },
         };
         let program = |label: &str, is_pbrt| Program {
             label: label.into(),
