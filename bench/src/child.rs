@@ -52,9 +52,25 @@ impl MeasureArgs {
         Ok(())
     }
 
-    /// rpbrt, then the baseline and pbrt-v4 where given.
+    /// The programs to measure: the `rpbrt` beside this harness, then the
+    /// baseline (another rpbrt build) and pbrt-v4 where given.
     pub fn programs(&self) -> Result<Vec<Program>> {
-        Program::all(self.baseline.as_deref(), self.pbrt.as_deref())
+        let mut programs = vec![Program::rpbrt()?];
+        if let Some(baseline) = &self.baseline {
+            programs.push(Program {
+                label: format!("rpbrt (baseline {})", baseline.display()),
+                executable: baseline.clone(),
+                is_pbrt: false,
+            });
+        }
+        if let Some(pbrt) = &self.pbrt {
+            programs.push(Program {
+                label: "pbrt-v4".into(),
+                executable: pbrt.clone(),
+                is_pbrt: true,
+            });
+        }
+        Ok(programs)
     }
 }
 
@@ -74,27 +90,6 @@ impl Program {
             executable: rpbrt_executable()?,
             is_pbrt: false,
         })
-    }
-
-    /// The programs to measure: the `rpbrt` beside this harness, then
-    /// `baseline` (another rpbrt build) and `pbrt` (pbrt-v4) where given.
-    pub fn all(baseline: Option<&Path>, pbrt: Option<&Path>) -> Result<Vec<Program>> {
-        let mut programs = vec![Program::rpbrt()?];
-        if let Some(baseline) = baseline {
-            programs.push(Program {
-                label: format!("rpbrt (baseline {})", baseline.display()),
-                executable: baseline.to_path_buf(),
-                is_pbrt: false,
-            });
-        }
-        if let Some(pbrt) = pbrt {
-            programs.push(Program {
-                label: "pbrt-v4".into(),
-                executable: pbrt.to_path_buf(),
-                is_pbrt: true,
-            });
-        }
-        Ok(programs)
     }
 }
 
